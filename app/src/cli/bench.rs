@@ -1,0 +1,90 @@
+//! `lopin bench`: setup time, time per iteration and the time of the triangular solves alone
+//! on `two-blocks` at refine 1 and 2, so the overhead ratio (iteration / triangular solves) is
+//! visible. Ratios are measured within one run.
+
+use std::process::ExitCode;
+
+use clap::Args;
+use lopin_core::counters::Instant;
+
+use super::setup::{prepare, SceneArgs};
+
+#[derive(Debug, Args)]
+pub struct BenchArgs {
+    /// Scene to benchmark.
+    #[arg(long, default_value = "two-blocks")]
+    scene: String,
+    /// Refinements to run.
+    #[arg(long, value_delimiter = ',', default_value = "1,2")]
+    refine: Vec<usize>,
+    /// LATIN iterations timed per refinement.
+    #[arg(long, default_value_t = 10)]
+    iterations: usize,
+}
+
+pub fn bench(args: &BenchArgs) -> anyhow::Result<ExitCode> {
+    println!(
+        "{:<12} {:>7} {:>8} {:>8} {:>10} {:>12} {:>12} {:>9}",
+        "scene", "refine", "dofs", "subs", "setup_s", "iter_ms", "trisolve_ms", "overhead"
+    );
+    for &refine in &args.refine {
+        let sargs = SceneArgs {
+            scene: args.scene.clone(),
+            friction: None,
+            tol: Some(1e-300),
+            k: None,
+            mu: None,
+            refine,
+            split: 1,
+            window: None,
+            max_iter: Some(args.iterations),
+        };
+        let mut prepared = prepare(&sargs)?;
+        let solver = &mut prepared.solver;
+        let setup = solver.counters().setup_s;
+        let start = Instant::now();
+        let sol = solver.solve(None)?;
+        let iter_s = start.elapsed().as_secs_f64() / sol.iterations as f64;
+        let tri_s = triangular_solves(solver);
+        let p = solver.problem();
+        println!(
+            "{:<12} {:>7} {:>8} {:>8} {:>10.3} {:>12.2} {:>12.2} {:>9.2}",
+            p.name,
+            refine,
+            p.dof_count(),
+            p.subs.len(),
+            setup,
+            1e3 * iter_s,
+            1e3 * tri_s,
+            iter_s / tri_s
+        );
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Wall time of the triangular solves of one iteration alone: N solves per substructure, the
+/// substructures in parallel exactly as in the linear stage (median of 5 repetitions).
+fn triangular_solves(solver: &lopin_core::Solver) -> f64 {
+    let p = solver.problem();
+    let n = p.time.steps;
+    let mut times: Vec<f64> = (0..5)
+        .map(|_| {
+            let start = Instant::now();
+            std::thread::scope(|scope| {
+                for (sub, factor) in p.subs.iter().zip(solver.factors()) {
+                    scope.spawn(move || {
+                        let mut scratch = factor.scratch();
+                        let mut x: Vec<f64> = (0..sub.ndof()).map(|i| (i as f64).sin()).collect();
+                        for _ in 0..n {
+                            factor.solve_in_place(&mut x, &mut scratch);
+                        }
+                        std::hint::black_box(&x);
+                    });
+                }
+            });
+            start.elapsed().as_secs_f64()
+        })
+        .collect();
+    times.sort_by(f64::total_cmp);
+    times[2]
+}

@@ -1,0 +1,48 @@
+//! Command-line definitions (clap) and dispatch to one module per subcommand.
+
+mod bench;
+mod report;
+mod run;
+mod scenes;
+mod setup;
+
+use clap::{Parser, Subcommand};
+
+/// Lopin: LATIN domain decomposition for frictional contact under shock.
+#[derive(Debug, Parser)]
+#[command(name = "lopin", version, about)]
+pub struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Solve a scene (built-in name or .toml file) and print a summary.
+    Run(run::RunArgs),
+    /// Time setup, iterations and triangular solves on `two-blocks` (refine 1 and 2).
+    Bench(bench::BenchArgs),
+    /// List the built-in scenes.
+    Scenes,
+    /// Print a built-in scene as a TOML scene file.
+    ExportScene {
+        /// Scene name.
+        name: String,
+    },
+}
+
+/// Runs the chosen subcommand.
+pub fn dispatch(cli: Cli) -> anyhow::Result<std::process::ExitCode> {
+    match cli.command {
+        Some(Command::Run(args)) => run::run(&args),
+        Some(Command::Bench(args)) => bench::bench(&args),
+        Some(Command::Scenes) => scenes::list(),
+        Some(Command::ExportScene { name }) => scenes::export(&name),
+        None => {
+            use clap::CommandFactory;
+            Cli::command().print_help()?;
+            println!();
+            Ok(std::process::ExitCode::SUCCESS)
+        }
+    }
+}

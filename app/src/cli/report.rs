@@ -1,0 +1,134 @@
+//! The report of a run: the JSON object of `lopin run --json` and the human summary table.
+
+use lopin_core::post::Summary;
+use lopin_core::scene::SceneSpec;
+use lopin_core::{Solution, Solver};
+use serde_json::{json, Value};
+
+/// Everything a run reports.
+pub struct RunReport<'a> {
+    spec: &'a SceneSpec,
+    solver: &'a Solver,
+    solution: &'a Solution,
+    summary: &'a Summary,
+    wall_s: f64,
+}
+
+impl<'a> RunReport<'a> {
+    pub fn new(
+        spec: &'a SceneSpec,
+        solver: &'a Solver,
+        solution: &'a Solution,
+        summary: &'a Summary,
+        wall_s: f64,
+    ) -> Self {
+        Self {
+            spec,
+            solver,
+            solution,
+            summary,
+            wall_s,
+        }
+    }
+
+    pub fn to_json(&self) -> Value {
+        let p = self.solver.problem();
+        let set = self.solver.settings();
+        let st = self.solver.counters().stage_times();
+        let s = self.summary;
+        json!({
+            "scene": self.spec.name,
+            "solver": "latin",
+            "substructures": p.subs.len(),
+            "interfaces": p.interfaces.len(),
+            "contact_interfaces": p.contact_count(),
+            "dofs": p.dof_count(),
+            "steps": p.time.steps,
+            "dt": p.time.dt,
+            "settings": {
+                "k": set.k, "mu": set.mu, "tol": set.tol, "max_iter": set.max_iter,
+                "window": set.window,
+            },
+            "iterations": self.solution.iterations,
+            "eta": self.solution.eta,
+            "converged": self.solution.converged,
+            "wall_s": self.wall_s,
+            "stages_s": { "setup": st.setup, "local": st.local, "linear": st.linear, "post": st.post },
+            "energy": {
+                "kinetic_end": s.kinetic_end,
+                "strain_end": s.strain_end,
+                "input_work": s.input_work,
+                "max_total_over_input": s.max_total_over_input,
+            },
+            "contact": {
+                "max_slip": s.max_slip,
+                "peak_normal_force": s.peak_normal_force,
+                "min_gap": s.min_gap,
+            },
+        })
+    }
+
+    pub fn table(&self) -> String {
+        let p = self.solver.problem();
+        let set = self.solver.settings();
+        let st = self.solver.counters().stage_times();
+        let s = self.summary;
+        let sol = self.solution;
+        let mut out = String::new();
+        let mut row = |k: &str, v: String| out.push_str(&format!("  {k:<26} {v}\n"));
+        row("scene", self.spec.name.clone());
+        row("substructures", p.subs.len().to_string());
+        row(
+            "interfaces (contact)",
+            format!("{} ({})", p.interfaces.len(), p.contact_count()),
+        );
+        row("dofs", p.dof_count().to_string());
+        row(
+            "steps x dt",
+            format!("{} x {:.3e} s", p.time.steps, p.time.dt),
+        );
+        row(
+            "k, mu, tol",
+            format!("{:.4e} Pa.s/m, {}, {:.0e}", set.k, set.mu, set.tol),
+        );
+        row(
+            "window",
+            set.window
+                .map_or("whole interval".to_string(), |w| format!("{w} steps")),
+        );
+        row(
+            "iterations",
+            format!(
+                "{}{}",
+                sol.iterations,
+                if sol.converged {
+                    ""
+                } else {
+                    "  (NOT converged)"
+                }
+            ),
+        );
+        row("eta", format!("{:.3e}", sol.eta));
+        row("time setup", format!("{:.3} s", st.setup));
+        row("time local stage", format!("{:.3} s", st.local));
+        row("time linear stage", format!("{:.3} s", st.linear));
+        row("time post", format!("{:.3} s", st.post));
+        row("wall time", format!("{:.3} s", self.wall_s));
+        row("kinetic energy (end)", format!("{:.4e} J", s.kinetic_end));
+        row("strain energy (end)", format!("{:.4e} J", s.strain_end));
+        row("input work", format!("{:.4e} J", s.input_work));
+        row(
+            "max E/(E0 + input)",
+            format!("{:.6}", s.max_total_over_input),
+        );
+        if let Some(g) = s.min_gap {
+            row(
+                "contact: peak normal force",
+                format!("{:.4e} N", s.peak_normal_force),
+            );
+            row("contact: max slip", format!("{:.4e} m", s.max_slip));
+            row("contact: min gap", format!("{g:.4e} m"));
+        }
+        out
+    }
+}

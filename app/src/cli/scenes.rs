@@ -1,0 +1,25 @@
+//! `lopin scenes` and `lopin export-scene`: the registry, and its scenes as TOML files.
+
+use std::process::ExitCode;
+
+use lopin_core::scene::{self, registry};
+
+pub fn list() -> anyhow::Result<ExitCode> {
+    for name in registry::SCENES {
+        let spec =
+            registry::builtin(name).ok_or_else(|| anyhow::anyhow!("registry lost {name}"))?;
+        println!("{name:<16} {}", spec.description);
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+pub fn export(name: &str) -> anyhow::Result<ExitCode> {
+    let spec = registry::builtin(name).ok_or_else(|| {
+        anyhow::anyhow!(
+            "unknown scene `{name}` (built-in: {})",
+            registry::SCENES.join(", ")
+        )
+    })?;
+    print!("{}", scene::to_toml(&spec));
+    Ok(ExitCode::SUCCESS)
+}

@@ -1,0 +1,405 @@
+//! Automatic interface detection: substructures whose boundary faces coincide (or face each other
+//! across a gap, for contact) get an interface with conforming node pairs, lumped nodal areas A
+//! and normals outward of side 1 (METHOD §1, §10 "node pairing must be identical on both
+//! sides"). Boundary-condition interfaces are selected on a plane of a substructure's boundary.
+
+use std::collections::{BTreeMap, HashMap};
+
+use crate::error::{LopinError, Result};
+use crate::interface::{BoundaryDof, Contact, Interface, Law, Side};
+use crate::mesh::{dot, norm, sub, Face, Vec3};
+use crate::substructure::Substructure;
+
+/// How two bodies are joined where their substructures meet.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum PairRule {
+    /// Perfect interface (the default, and always within a body).
+    Perfect,
+    /// Unilateral contact with Coulomb friction; faces facing each other up to `search` apart
+    /// are paired; `gap` overrides the geometric initial gap.
+    Contact {
+        /// Friction coefficient.
+        friction: f64,
+        /// Initial gap override (None: the geometric distance).
+        gap: Option<f64>,
+        /// Largest distance at which facing faces are paired.
+        search: f64,
+    },
+    /// No interface: the bodies do not interact.
+    Free,
+}
+
+/// Relative tolerance on coordinates (times the face size).
+const REL_TOL: f64 = 1e-6;
+/// Faces are facing when n₁·n₂ < −FACING.
+const FACING: f64 = 0.999;
+
+/// A matched face pair with its node pairs (side-1 node, side-2 node).
+struct FaceMatch {
+    face: Face,
+    pairs: Vec<(usize, usize)>,
+    distance: f64,
+}
+
+/// Detects all two-sided interfaces between the substructures. `rule(body_a, body_b)` tells how
+/// two bodies are joined (substructures of the same body always get `Perfect`).
+pub fn detect_interfaces(
+    subs: &[Substructure],
+    rule: &dyn Fn(&str, &str) -> PairRule,
+) -> Result<Vec<Interface>> {
+    let faces: Vec<Vec<Face>> = subs.iter().map(|s| s.mesh.boundary_faces()).collect();
+    let pair_rule = |a: usize, b: usize| {
+        if subs[a].body == subs[b].body {
+            PairRule::Perfect
+        } else {
+            rule(&subs[a].body, &subs[b].body)
+        }
+    };
+    let diameter = model_diameter(subs);
+    let quantum = 1e-9 * diameter.max(f64::MIN_POSITIVE);
+    let key = |c: Vec3| -> [i64; 3] { std::array::from_fn(|a| (c[a] / quantum).round() as i64) };
+
+    // Global hash of face centroids.
+    let mut grid: HashMap<[i64; 3], Vec<(usize, usize)>> = HashMap::new();
+    for (s, fs) in faces.iter().enumerate() {
+        for (f, face) in fs.iter().enumerate() {
+            grid.entry(key(face.centroid)).or_default().push((s, f));
+        }
+    }
+
+    let mut matched: Vec<Vec<bool>> = faces.iter().map(|f| vec![false; f.len()]).collect();
+    let mut groups: BTreeMap<(usize, usize), Vec<FaceMatch>> = BTreeMap::new();
+
+    // Phase 1: coincident faces.
+    for (s, fs) in faces.iter().enumerate() {
+        for (f, face) in fs.iter().enumerate() {
+            let tol = REL_TOL * face.area.sqrt();
+            let k = key(face.centroid);
+            for d in neighbour_offsets() {
+                let kk = [k[0] + d[0], k[1] + d[1], k[2] + d[2]];
+                let Some(cands) = grid.get(&kk) else { continue };
+                for &(t, g) in cands {
+                    if t <= s {
+                        continue;
+                    }
+                    let other = &faces[t][g];
+                    if norm(sub(other.centroid, face.centroid)) > tol
+                        || dot(face.normal, other.normal) > -FACING
+                    {
+                        continue;
+                    }
+                    if pair_rule(s, t) == PairRule::Free {
+                        continue;
+                    }
+                    let pairs = pair_nodes(subs, s, face, t, other, [0.0; 3], tol)
+                        .ok_or_else(|| nonconforming(subs, s, t, face.centroid))?;
+                    matched[s][f] = true;
+                    matched[t][g] = true;
+                    groups.entry((s, t)).or_default().push(FaceMatch {
+                        face: face.clone(),
+                        pairs,
+                        distance: 0.0,
+                    });
+                }
+            }
+        }
+    }
+
+    // Phase 2: contact faces facing each other across a gap.
+    for s in 0..subs.len() {
+        for t in s + 1..subs.len() {
+            let PairRule::Contact { search, .. } = pair_rule(s, t) else {
+                continue;
+            };
+            if search <= 0.0 {
+                continue;
+            }
+            for (f, face) in faces[s].iter().enumerate() {
+                if matched[s][f] {
+                    continue;
+                }
+                let tol = REL_TOL * face.area.sqrt();
+                for (g, other) in faces[t].iter().enumerate() {
+                    if matched[t][g] || dot(face.normal, other.normal) > -FACING {
+                        continue;
+                    }
+                    let d = sub(other.centroid, face.centroid);
+                    let dist = dot(d, face.normal);
+                    let lateral = sub(d, scale(face.normal, dist));
+                    if dist < -tol || dist > search + tol || norm(lateral) > tol {
+                        continue;
+                    }
+                    let shift = scale(face.normal, dist);
+                    let pairs = pair_nodes(subs, s, face, t, other, shift, tol)
+                        .ok_or_else(|| nonconforming(subs, s, t, face.centroid))?;
+                    matched[s][f] = true;
+                    matched[t][g] = true;
+                    groups.entry((s, t)).or_default().push(FaceMatch {
+                        face: face.clone(),
+                        pairs,
+                        distance: dist.max(0.0),
+                    });
+                    break;
+                }
+            }
+        }
+    }
+
+    check_conforming(subs, &faces, &matched, &pair_rule)?;
+
+    Ok(groups
+        .into_iter()
+        .map(|((s, t), matches)| build_two_sided(subs, s, t, &matches, pair_rule(s, t)))
+        .collect())
+}
+
+/// Selects the boundary faces of substructure `s` lying on the plane x_axis = value with outward
+/// normal along `sign`·e_axis, and builds a boundary interface prescribing `dofs` at each of its
+/// nodes. Returns None when the substructure has no such face.
+pub fn boundary_interface(
+    subs: &[Substructure],
+    s: usize,
+    axis: usize,
+    sign: f64,
+    value: f64,
+    dofs: &[BoundaryDof],
+    name: String,
+) -> Option<Interface> {
+    let mut area: BTreeMap<usize, f64> = BTreeMap::new();
+    for face in subs[s].mesh.boundary_faces() {
+        let tol = REL_TOL * face.area.sqrt();
+        if face.normal[axis] * sign < FACING || (face.centroid[axis] - value).abs() > tol {
+            continue;
+        }
+        for &n in &face.nodes {
+            *area.entry(n).or_default() += face.area / face.nodes.len() as f64;
+        }
+    }
+    if area.is_empty() || dofs.is_empty() {
+        return None;
+    }
+    let mut nodes = Vec::new();
+    let mut areas = Vec::new();
+    let mut laws = Vec::new();
+    for (&n, &a) in &area {
+        for d in dofs {
+            nodes.push(n);
+            areas.push(a);
+            laws.push(*d);
+        }
+    }
+    Some(Interface {
+        name,
+        len: nodes.len(),
+        sides: vec![Side {
+            sub: s,
+            offset: 0,
+            nodes,
+        }],
+        area: areas,
+        law: Law::Boundary(laws),
+    })
+}
+
+/// Assigns every interface side its slice of its substructure's trace vector (METHOD §11).
+pub fn assemble_traces(subs: &mut [Substructure], interfaces: &mut [Interface]) {
+    for s in subs.iter_mut() {
+        s.trace_dofs.clear();
+        s.trace_area.clear();
+        s.sides.clear();
+    }
+    for (i, iface) in interfaces.iter_mut().enumerate() {
+        let boundary = match &iface.law {
+            Law::Boundary(laws) => Some(laws.clone()),
+            _ => None,
+        };
+        for (k, side) in iface.sides.iter_mut().enumerate() {
+            let sub = &mut subs[side.sub];
+            side.offset = sub.trace_len();
+            sub.sides.push((i, k));
+            match &boundary {
+                Some(laws) => {
+                    for ((&n, law), &a) in side.nodes.iter().zip(laws).zip(&iface.area) {
+                        sub.trace_dofs.push(3 * n + law.component);
+                        sub.trace_area.push(a);
+                    }
+                }
+                None => {
+                    for (j, &n) in side.nodes.iter().enumerate() {
+                        for c in 0..3 {
+                            sub.trace_dofs.push(3 * n + c);
+                            sub.trace_area.push(iface.area[3 * j + c]);
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
+fn build_two_sided(
+    subs: &[Substructure],
+    s: usize,
+    t: usize,
+    matches: &[FaceMatch],
+    rule: PairRule,
+) -> Interface {
+    // node of side 1 -> (node of side 2, area, area-weighted normal, distance)
+    let mut nodes: BTreeMap<usize, (usize, f64, Vec3, f64)> = BTreeMap::new();
+    for m in matches {
+        let a = m.face.area / m.face.nodes.len() as f64;
+        for &(n1, n2) in &m.pairs {
+            let e = nodes.entry(n1).or_insert((n2, 0.0, [0.0; 3], m.distance));
+            e.1 += a;
+            for c in 0..3 {
+                e.2[c] += a * m.face.normal[c];
+            }
+        }
+    }
+    let side1: Vec<usize> = nodes.keys().copied().collect();
+    let side2: Vec<usize> = nodes.values().map(|v| v.0).collect();
+    let area: Vec<f64> = nodes.values().flat_map(|v| [v.1; 3]).collect();
+    let law = match rule {
+        PairRule::Contact { friction, gap, .. } => Law::Contact(Contact {
+            friction,
+            gap: nodes.values().map(|v| gap.unwrap_or(v.3)).collect(),
+            normal: nodes
+                .values()
+                .map(|v| {
+                    let l = norm(v.2);
+                    [v.2[0] / l, v.2[1] / l, v.2[2] / l]
+                })
+                .collect(),
+        }),
+        _ => Law::Perfect,
+    };
+    Interface {
+        name: format!("{}|{}", subs[s].name, subs[t].name),
+        len: 3 * side1.len(),
+        sides: vec![
+            Side {
+                sub: s,
+                offset: 0,
+                nodes: side1,
+            },
+            Side {
+                sub: t,
+                offset: 0,
+                nodes: side2,
+            },
+        ],
+        area,
+        law,
+    }
+}
+
+/// Pairs the nodes of `face` (substructure s) with those of `other` (substructure t), where
+/// `other`'s nodes sit at `face`'s nodes + `shift`. None if they do not pair one to one.
+fn pair_nodes(
+    subs: &[Substructure],
+    s: usize,
+    face: &Face,
+    t: usize,
+    other: &Face,
+    shift: Vec3,
+    tol: f64,
+) -> Option<Vec<(usize, usize)>> {
+    if face.nodes.len() != other.nodes.len() {
+        return None;
+    }
+    face.nodes
+        .iter()
+        .map(|&n| {
+            let p = subs[s].mesh.nodes[n];
+            let target = [p[0] + shift[0], p[1] + shift[1], p[2] + shift[2]];
+            other
+                .nodes
+                .iter()
+                .find(|&&m| norm(sub(subs[t].mesh.nodes[m], target)) <= tol)
+                .map(|&m| (n, m))
+        })
+        .collect()
+}
+
+/// Errors when an unmatched face of one substructure lies on a boundary face of another
+/// (the two touch on a face region without conforming nodes).
+fn check_conforming(
+    subs: &[Substructure],
+    faces: &[Vec<Face>],
+    matched: &[Vec<bool>],
+    pair_rule: &dyn Fn(usize, usize) -> PairRule,
+) -> Result<()> {
+    let boxes: Vec<(Vec3, Vec3)> = subs.iter().map(|s| s.mesh.bounding_box()).collect();
+    for (s, fs) in faces.iter().enumerate() {
+        for (f, face) in fs.iter().enumerate() {
+            if matched[s][f] {
+                continue;
+            }
+            let tol = REL_TOL * face.area.sqrt();
+            for (t, (lo, hi)) in boxes.iter().enumerate() {
+                if t == s
+                    || (0..3)
+                        .any(|a| face.centroid[a] < lo[a] - tol || face.centroid[a] > hi[a] + tol)
+                    || pair_rule(s, t) == PairRule::Free
+                {
+                    continue;
+                }
+                for other in &faces[t] {
+                    if dot(face.normal, other.normal) > -FACING {
+                        continue;
+                    }
+                    let d = sub(face.centroid, other.centroid);
+                    if dot(d, other.normal).abs() <= tol
+                        && point_in_face(subs, t, other, face.centroid)
+                    {
+                        return Err(nonconforming(subs, s, t, face.centroid));
+                    }
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Whether point p (on the face's plane) lies strictly inside the convex face.
+fn point_in_face(subs: &[Substructure], t: usize, face: &Face, p: Vec3) -> bool {
+    let pts: Vec<Vec3> = face.nodes.iter().map(|&n| subs[t].mesh.nodes[n]).collect();
+    let tol = REL_TOL * face.area;
+    (0..pts.len()).all(|i| {
+        let a = pts[i];
+        let b = pts[(i + 1) % pts.len()];
+        let c = crate::mesh::cross(sub(b, a), sub(p, a));
+        dot(c, face.normal) > tol
+    })
+}
+
+fn nonconforming(subs: &[Substructure], s: usize, t: usize, at: Vec3) -> LopinError {
+    LopinError::NonConforming {
+        a: subs[s].name.clone(),
+        b: subs[t].name.clone(),
+        x: at[0],
+        y: at[1],
+        z: at[2],
+    }
+}
+
+fn model_diameter(subs: &[Substructure]) -> f64 {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for s in subs {
+        let (a, b) = s.mesh.bounding_box();
+        for c in 0..3 {
+            lo[c] = lo[c].min(a[c]);
+            hi[c] = hi[c].max(b[c]);
+        }
+    }
+    norm(sub(hi, lo))
+}
+
+fn scale(v: Vec3, s: f64) -> Vec3 {
+    [v[0] * s, v[1] * s, v[2] * s]
+}
+
+fn neighbour_offsets() -> impl Iterator<Item = [i64; 3]> {
+    (0..27).map(|i| [i % 3 - 1, (i / 3) % 3 - 1, i / 9 - 1])
+}

@@ -1,0 +1,130 @@
+//! Sparse Cholesky factorization of a substructure operator, computed once and reused for every
+//! solve (METHOD §4: S is SPD and constant; §11: factorize once, one forward/back solve per step).
+//! Symbolic analysis and numeric factorization are faer's; the solve scratch is allocated once.
+
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::sparse::linalg::cholesky::SymmetricOrdering;
+use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, LltRef, SymbolicCholesky};
+use faer::sparse::{SparseColMat, Triplet};
+use faer::{Conj, MatMut, Par, Side};
+
+/// A numeric LLᵀ factor of an SPD sparse matrix.
+#[derive(Debug)]
+pub struct CholeskyFactor {
+    symbolic: SymbolicCholesky<usize>,
+    values: Vec<f64>,
+    n: usize,
+}
+
+/// Scratch memory for [`CholeskyFactor::solve_in_place`], one per concurrent user.
+pub struct SolveScratch {
+    buffer: MemBuffer,
+}
+
+impl std::fmt::Debug for SolveScratch {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("SolveScratch")
+    }
+}
+
+impl CholeskyFactor {
+    /// Factorizes the SPD matrix given by its lower-triangle triplets (duplicates summed).
+    /// Returns a readable reason on failure (not positive definite, out of memory).
+    pub fn new(n: usize, lower: &[Triplet<usize, usize, f64>]) -> Result<Self, String> {
+        let mat = SparseColMat::try_new_from_triplets(n, n, lower).map_err(|e| format!("{e:?}"))?;
+        let symbolic = factorize_symbolic_cholesky(
+            mat.symbolic(),
+            Side::Lower,
+            SymmetricOrdering::Amd,
+            Default::default(),
+        )
+        .map_err(|e| format!("symbolic analysis: {e:?}"))?;
+        let mut values = vec![0.0; symbolic.len_val()];
+        let par = Par::Seq;
+        let mut mem = MemBuffer::try_new(
+            symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()),
+        )
+        .map_err(|e| format!("{e:?}"))?;
+        symbolic
+            .factorize_numeric_llt::<f64>(
+                &mut values,
+                mat.as_ref(),
+                Side::Lower,
+                Default::default(),
+                par,
+                MemStack::new(&mut mem),
+                Default::default(),
+            )
+            .map_err(|e| format!("not positive definite ({e:?})"))?;
+        Ok(Self {
+            symbolic,
+            values,
+            n,
+        })
+    }
+
+    /// Dimension.
+    pub fn n(&self) -> usize {
+        self.n
+    }
+
+    /// Number of stored values of L (a measure of the solve cost).
+    pub fn factor_nnz(&self) -> usize {
+        self.values.len()
+    }
+
+    /// Scratch sized for single right-hand-side solves with this factor.
+    pub fn scratch(&self) -> SolveScratch {
+        SolveScratch {
+            buffer: MemBuffer::new(self.symbolic.solve_in_place_scratch::<f64>(1, Par::Seq)),
+        }
+    }
+
+    /// x ← S⁻¹ x (forward and back substitution).
+    pub fn solve_in_place(&self, x: &mut [f64], scratch: &mut SolveScratch) {
+        let rhs = MatMut::from_column_major_slice_mut(x, self.n, 1);
+        LltRef::new(&self.symbolic, &self.values).solve_in_place_with_conj(
+            Conj::No,
+            rhs,
+            Par::Seq,
+            MemStack::new(&mut scratch.buffer),
+        );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn solves_a_tridiagonal_system() {
+        let n = 50;
+        let mut t = Vec::new();
+        for i in 0..n {
+            t.push(Triplet::new(i, i, 4.0));
+            if i + 1 < n {
+                t.push(Triplet::new(i + 1, i, -1.0));
+            }
+        }
+        let f = CholeskyFactor::new(n, &t).expect("SPD");
+        let x_true: Vec<f64> = (0..n).map(|i| (i as f64).sin()).collect();
+        let mut b: Vec<f64> = (0..n)
+            .map(|i| {
+                4.0 * x_true[i]
+                    - if i > 0 { x_true[i - 1] } else { 0.0 }
+                    - if i + 1 < n { x_true[i + 1] } else { 0.0 }
+            })
+            .collect();
+        let mut s = f.scratch();
+        f.solve_in_place(&mut b, &mut s);
+        for i in 0..n {
+            assert!((b[i] - x_true[i]).abs() < 1e-13);
+        }
+    }
+
+    #[test]
+    fn rejects_an_indefinite_matrix() {
+        let t = vec![Triplet::new(0, 0, 1.0), Triplet::new(1, 1, -1.0)];
+        assert!(CholeskyFactor::new(2, &t).is_err());
+    }
+}

@@ -1,0 +1,90 @@
+//! Interfaces between substructures and with the outside: their sides, nodal areas A, normals and
+//! behaviour (METHOD §1 notation, §5 laws). An interface side owns a contiguous slice of its
+//! substructure's trace vector (node-major, component-minor: METHOD §11 data layout).
+
+use crate::mesh::Vec3;
+use crate::time_function::TimeFunction;
+
+/// One side of an interface: which substructure, where its dofs sit in that substructure's trace
+/// vector, and which mesh nodes they belong to.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Side {
+    /// Substructure index.
+    pub sub: usize,
+    /// Offset of this side's first dof in the substructure's trace vector.
+    pub offset: usize,
+    /// Mesh node of each interface node (two-sided: one per node; boundary: one per dof).
+    pub nodes: Vec<usize>,
+}
+
+/// What a boundary dof prescribes (METHOD §5, per component in global axes).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum DofLaw {
+    /// Prescribed velocity W_d(t).
+    Velocity(TimeFunction),
+    /// Prescribed traction F_d(t) (force per unit area on the substructure).
+    Traction(TimeFunction),
+}
+
+/// A prescribed dof of a boundary interface.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BoundaryDof {
+    /// Component 0, 1, 2 = x, y, z.
+    pub component: usize,
+    /// The prescription.
+    pub law: DofLaw,
+}
+
+/// Unilateral contact with Coulomb friction (METHOD §5).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Contact {
+    /// Friction coefficient f.
+    pub friction: f64,
+    /// Initial gap g0 ≥ 0 per interface node.
+    pub gap: Vec<f64>,
+    /// Unit normal per node, outward of side 1 (from side 1 to side 2).
+    pub normal: Vec<Vec3>,
+}
+
+/// The behaviour of an interface.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Law {
+    /// Perfect bond: [Ŵ] = 0, F̂₁ + F̂₂ = 0.
+    Perfect,
+    /// Unilateral contact with Coulomb friction.
+    Contact(Contact),
+    /// One-sided boundary condition, one law per dof of the side.
+    Boundary(Vec<BoundaryDof>),
+}
+
+/// An interface: one side (boundary) or two (perfect, contact).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Interface {
+    /// Readable name, e.g. `A|B` or `A:z+`.
+    pub name: String,
+    /// The sides (1 or 2).
+    pub sides: Vec<Side>,
+    /// Number of trace dofs on each side.
+    pub len: usize,
+    /// Lumped area A per trace dof (the same on both sides).
+    pub area: Vec<f64>,
+    /// Behaviour.
+    pub law: Law,
+}
+
+impl Interface {
+    /// Number of interface nodes of a two-sided interface (len / 3).
+    pub fn node_count(&self) -> usize {
+        self.len / 3
+    }
+
+    /// Whether this is a contact interface.
+    pub fn is_contact(&self) -> bool {
+        matches!(self.law, Law::Contact(_))
+    }
+
+    /// Whether this is a boundary (one-sided) interface.
+    pub fn is_boundary(&self) -> bool {
+        matches!(self.law, Law::Boundary(_))
+    }
+}

@@ -1,0 +1,41 @@
+//! `lopin-core`: a LATIN domain-decomposition solver for transient linear elastodynamics on
+//! decomposed 3D structures whose interfaces carry the nonlinearity (perfect, unilateral contact
+//! with Coulomb friction, boundary conditions). The method is specified in METHOD.md; each module
+//! names the sections it implements.
+//!
+//! ```no_run
+//! use lopin_core::{scene, Settings, Solver};
+//! let spec = scene::load("two-blocks")?;
+//! let problem = scene::build::build(&spec, "two-blocks")?;
+//! let settings = Settings::for_problem(&problem, &spec.solver);
+//! let mut solver = Solver::new(problem, settings)?;
+//! let cold = solver.solve(None)?;
+//! solver.set_friction(0.5)?;
+//! let warm = solver.solve(Some(&cold.state))?; // METHOD §8 warm start
+//! # Ok::<(), lopin_core::LopinError>(())
+//! ```
+
+pub mod counters;
+pub mod detect;
+pub mod error;
+pub mod factor;
+pub mod hex8;
+pub mod interface;
+pub mod linear_stage;
+pub mod local_stage;
+pub mod material;
+pub mod mesh;
+mod par;
+pub mod post;
+pub mod problem;
+pub mod scene;
+pub mod solver;
+pub mod sparse;
+pub mod state;
+pub mod substructure;
+pub mod time_function;
+
+pub use error::{LopinError, Result};
+pub use problem::Problem;
+pub use solver::{Control, Settings, Solution, Solver};
+pub use state::InterfaceState;

@@ -1,0 +1,203 @@
+//! Meshes: nodes and elements (trilinear hexahedra today; the element kind is an enum so that
+//! unstructured hexahedra and tetrahedra can join), structured box generation, and the boundary
+//! faces used to detect interfaces (METHOD §1: conforming, node-to-node interfaces).
+
+use std::collections::HashMap;
+
+/// A 3D point or vector.
+pub type Vec3 = [f64; 3];
+
+/// One finite element: its kind and its node numbers.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Element {
+    /// Trilinear hexahedron, nodes in the usual order: bottom face (ζ = −1) counter-clockwise
+    /// seen from above, then the top face.
+    Hex8([usize; 8]),
+}
+
+/// Local node lists of the six faces of a hexahedron, ordered counter-clockwise seen from
+/// outside (so that the diagonal cross product points outwards).
+const HEX8_FACES: [[usize; 4]; 6] = [
+    [0, 3, 2, 1],
+    [4, 5, 6, 7],
+    [0, 1, 5, 4],
+    [2, 3, 7, 6],
+    [0, 4, 7, 3],
+    [1, 2, 6, 5],
+];
+
+/// A boundary face of a mesh: its nodes (outward ordering), centroid, unit outward normal and
+/// area.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Face {
+    /// Node numbers, counter-clockwise seen from outside.
+    pub nodes: Vec<usize>,
+    /// Centroid (mean of the nodes).
+    pub centroid: Vec3,
+    /// Unit outward normal.
+    pub normal: Vec3,
+    /// Area.
+    pub area: f64,
+}
+
+/// A finite-element mesh.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Mesh {
+    /// Node coordinates.
+    pub nodes: Vec<Vec3>,
+    /// Elements.
+    pub elements: Vec<Element>,
+}
+
+impl Mesh {
+    /// A structured box [min, max] cut into `div` hexahedra along x, y, z.
+    /// Node (i, j, l) has number i + (nx+1)(j + (ny+1) l).
+    pub fn hex_box(min: Vec3, max: Vec3, div: [usize; 3]) -> Mesh {
+        let [nx, ny, nz] = div;
+        let coord = |a: usize, i: usize, n: usize| -> f64 {
+            if i == n {
+                max[a]
+            } else {
+                min[a] + (max[a] - min[a]) * (i as f64) / (n as f64)
+            }
+        };
+        let mut nodes = Vec::with_capacity((nx + 1) * (ny + 1) * (nz + 1));
+        for l in 0..=nz {
+            for j in 0..=ny {
+                for i in 0..=nx {
+                    nodes.push([coord(0, i, nx), coord(1, j, ny), coord(2, l, nz)]);
+                }
+            }
+        }
+        let id = |i: usize, j: usize, l: usize| i + (nx + 1) * (j + (ny + 1) * l);
+        let mut elements = Vec::with_capacity(nx * ny * nz);
+        for l in 0..nz {
+            for j in 0..ny {
+                for i in 0..nx {
+                    elements.push(Element::Hex8([
+                        id(i, j, l),
+                        id(i + 1, j, l),
+                        id(i + 1, j + 1, l),
+                        id(i, j + 1, l),
+                        id(i, j, l + 1),
+                        id(i + 1, j, l + 1),
+                        id(i + 1, j + 1, l + 1),
+                        id(i, j + 1, l + 1),
+                    ]));
+                }
+            }
+        }
+        Mesh { nodes, elements }
+    }
+
+    /// Number of degrees of freedom (3 per node, node-major).
+    pub fn ndof(&self) -> usize {
+        3 * self.nodes.len()
+    }
+
+    /// Axis-aligned bounding box (min, max).
+    pub fn bounding_box(&self) -> (Vec3, Vec3) {
+        let mut lo = [f64::INFINITY; 3];
+        let mut hi = [f64::NEG_INFINITY; 3];
+        for p in &self.nodes {
+            for a in 0..3 {
+                lo[a] = lo[a].min(p[a]);
+                hi[a] = hi[a].max(p[a]);
+            }
+        }
+        (lo, hi)
+    }
+
+    /// The faces that belong to exactly one element.
+    pub fn boundary_faces(&self) -> Vec<Face> {
+        let mut count: HashMap<Vec<usize>, (usize, Vec<usize>)> = HashMap::new();
+        let mut order = Vec::new();
+        for element in &self.elements {
+            match element {
+                Element::Hex8(n) => {
+                    for f in HEX8_FACES {
+                        let nodes: Vec<usize> = f.iter().map(|&i| n[i]).collect();
+                        let mut key = nodes.clone();
+                        key.sort_unstable();
+                        let entry = count.entry(key.clone()).or_insert_with(|| {
+                            order.push(key);
+                            (0, nodes)
+                        });
+                        entry.0 += 1;
+                    }
+                }
+            }
+        }
+        order
+            .into_iter()
+            .filter_map(|key| {
+                let (c, nodes) = &count[&key];
+                (*c == 1).then(|| self.face(nodes.clone()))
+            })
+            .collect()
+    }
+
+    /// Geometry of a (planar) quadrilateral face given by its nodes.
+    fn face(&self, nodes: Vec<usize>) -> Face {
+        let p: Vec<Vec3> = nodes.iter().map(|&i| self.nodes[i]).collect();
+        let mut centroid = [0.0; 3];
+        for q in &p {
+            for a in 0..3 {
+                centroid[a] += q[a] / p.len() as f64;
+            }
+        }
+        let d1 = sub(p[2], p[0]);
+        let d2 = sub(p[3], p[1]);
+        let c = cross(d1, d2);
+        let norm = dot(c, c).sqrt();
+        Face {
+            nodes,
+            centroid,
+            normal: [c[0] / norm, c[1] / norm, c[2] / norm],
+            area: 0.5 * norm,
+        }
+    }
+}
+
+/// a − b.
+pub fn sub(a: Vec3, b: Vec3) -> Vec3 {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+/// a · b.
+pub fn dot(a: Vec3, b: Vec3) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// a × b.
+pub fn cross(a: Vec3, b: Vec3) -> Vec3 {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+/// Euclidean norm.
+pub fn norm(a: Vec3) -> f64 {
+    dot(a, a).sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn box_boundary_has_six_sides_of_faces_with_outward_normals() {
+        let m = Mesh::hex_box([0.0; 3], [2.0, 1.0, 1.0], [2, 1, 1]);
+        let faces = m.boundary_faces();
+        assert_eq!(faces.len(), 2 * 2 + 2 * 2 + 2);
+        let total: f64 = faces.iter().map(|f| f.area).sum();
+        assert!((total - 2.0 * (2.0 + 2.0 + 1.0)).abs() < 1e-12);
+        for f in &faces {
+            // outward: the normal points away from the box centre (1, 0.5, 0.5)
+            let d = sub(f.centroid, [1.0, 0.5, 0.5]);
+            assert!(dot(d, f.normal) > 0.0);
+        }
+    }
+}

@@ -1,0 +1,371 @@
+//! Turns a scene description into a [`Problem`]: validates every field (errors name the source,
+//! the field and the reason), meshes the bodies, cuts them into substructures, detects the
+//! interfaces and places the boundary conditions.
+
+use crate::detect::{assemble_traces, boundary_interface, detect_interfaces, PairRule};
+use crate::error::{LopinError, Result};
+use crate::interface::{BoundaryDof, DofLaw};
+use crate::material::Material;
+use crate::mesh::Mesh;
+use crate::problem::Problem;
+use crate::scene::spec::{BoundarySpec, ComponentSpec, InterfaceKind, SceneSpec};
+use crate::substructure::Substructure;
+use crate::time_function::TimeFunction;
+
+/// Faces of a box by name: (axis, sign).
+pub fn face_of(name: &str) -> Option<(usize, f64)> {
+    match name {
+        "x-" => Some((0, -1.0)),
+        "x+" => Some((0, 1.0)),
+        "y-" => Some((1, -1.0)),
+        "y+" => Some((1, 1.0)),
+        "z-" => Some((2, -1.0)),
+        "z+" => Some((2, 1.0)),
+        _ => None,
+    }
+}
+
+/// Checks every field of a scene; `source` names the file or built-in scene in errors.
+pub fn validate(spec: &SceneSpec, source: &str) -> Result<()> {
+    let err = |field: String, reason: String| Err(LopinError::scene(source, field, reason));
+    let positive = |x: f64| x.is_finite() && x > 0.0;
+    if !positive(spec.time.dt) {
+        return err(
+            "time.dt".into(),
+            format!("must be a positive number of seconds, got {}", spec.time.dt),
+        );
+    }
+    if spec.time.steps == 0 {
+        return err("time.steps".into(), "must be at least 1".into());
+    }
+    for (name, axes) in [
+        ("refine_axes", &spec.refine_axes),
+        ("split_axes", &spec.split_axes),
+    ] {
+        if axes.chars().any(|c| !"xyz".contains(c)) {
+            return err(
+                name.into(),
+                format!("only the letters x, y, z are allowed, got `{axes}`"),
+            );
+        }
+    }
+    let s = &spec.solver;
+    if let Some(tol) = s.tol {
+        if !positive(tol) {
+            return err("solver.tol".into(), format!("must be positive, got {tol}"));
+        }
+    }
+    if let Some(mu) = s.mu {
+        if !(mu > 0.0 && mu <= 1.0) {
+            return err("solver.mu".into(), format!("must lie in (0, 1], got {mu}"));
+        }
+    }
+    if let Some(k) = s.k {
+        if !positive(k) {
+            return err("solver.k".into(), format!("must be positive, got {k}"));
+        }
+    }
+    if s.window == Some(0) {
+        return err("solver.window".into(), "must be at least 1 step".into());
+    }
+    if spec.materials.is_empty() {
+        return err(
+            "material".into(),
+            "at least one [[material]] is needed".into(),
+        );
+    }
+    for (i, m) in spec.materials.iter().enumerate() {
+        if spec.materials[..i].iter().any(|o| o.name == m.name) {
+            return err(
+                format!("material[{i}].name"),
+                format!("duplicate material name `{}`", m.name),
+            );
+        }
+        if !positive(m.young) {
+            return err(
+                format!("material[{i}].young"),
+                format!("must be positive, got {}", m.young),
+            );
+        }
+        if !(m.poisson.is_finite() && m.poisson > -1.0 && m.poisson < 0.5) {
+            return err(
+                format!("material[{i}].poisson"),
+                format!("must lie in (-1, 0.5), got {}", m.poisson),
+            );
+        }
+        if !positive(m.density) {
+            return err(
+                format!("material[{i}].density"),
+                format!("must be positive, got {}", m.density),
+            );
+        }
+    }
+    if spec.bodies.is_empty() {
+        return err("body".into(), "at least one [[body]] is needed".into());
+    }
+    for (i, b) in spec.bodies.iter().enumerate() {
+        if spec.bodies[..i].iter().any(|o| o.name == b.name) {
+            return err(
+                format!("body[{i}].name"),
+                format!("duplicate body name `{}`", b.name),
+            );
+        }
+        if !spec.materials.iter().any(|m| m.name == b.material) {
+            return err(
+                format!("body[{i}].material"),
+                format!("no material named `{}`", b.material),
+            );
+        }
+        for a in 0..3 {
+            let axis = ["x", "y", "z"][a];
+            if !(b.min[a].is_finite() && b.max[a].is_finite() && b.max[a] > b.min[a]) {
+                return err(
+                    format!("body[{i}].max"),
+                    format!(
+                        "max.{axis} = {} must exceed min.{axis} = {}",
+                        b.max[a], b.min[a]
+                    ),
+                );
+            }
+            if b.divisions[a] == 0 {
+                return err(
+                    format!("body[{i}].divisions"),
+                    format!("{axis} division must be at least 1"),
+                );
+            }
+            if b.split[a] == 0 || b.divisions[a] % b.split[a] != 0 {
+                return err(
+                    format!("body[{i}].split"),
+                    format!(
+                        "{axis}: {} substructures do not divide {} hexahedra",
+                        b.split[a], b.divisions[a]
+                    ),
+                );
+            }
+        }
+        if b.velocity.iter().any(|v| !v.is_finite()) {
+            return err(format!("body[{i}].velocity"), "must be finite".into());
+        }
+    }
+    for (i, it) in spec.interfaces.iter().enumerate() {
+        for (j, name) in it.bodies.iter().enumerate() {
+            if !spec.bodies.iter().any(|b| &b.name == name) {
+                return err(
+                    format!("interface[{i}].bodies[{j}]"),
+                    format!("no body named `{name}`"),
+                );
+            }
+        }
+        if it.bodies[0] == it.bodies[1] {
+            return err(
+                format!("interface[{i}].bodies"),
+                "the two bodies must differ".into(),
+            );
+        }
+        let contact = it.kind == InterfaceKind::Contact;
+        for (field, value) in [
+            ("friction", it.friction),
+            ("gap", it.gap),
+            ("search", it.search),
+        ] {
+            if let Some(v) = value {
+                if !contact {
+                    return err(
+                        format!("interface[{i}].{field}"),
+                        format!("only a contact interface takes `{field}`"),
+                    );
+                }
+                if !(v.is_finite() && v >= 0.0) {
+                    return err(
+                        format!("interface[{i}].{field}"),
+                        format!("must be a non-negative number, got {v}"),
+                    );
+                }
+            }
+        }
+    }
+    for (i, bc) in spec.boundaries.iter().enumerate() {
+        if !spec.bodies.iter().any(|b| b.name == bc.body) {
+            return err(
+                format!("boundary[{i}].body"),
+                format!("no body named `{}`", bc.body),
+            );
+        }
+        if face_of(&bc.face).is_none() {
+            return err(
+                format!("boundary[{i}].face"),
+                format!("expected one of x-, x+, y-, y+, z-, z+, got `{}`", bc.face),
+            );
+        }
+        boundary_dofs(bc).map_err(|(field, reason)| {
+            LopinError::scene(source, format!("boundary[{i}].{field}"), reason)
+        })?;
+    }
+    Ok(())
+}
+
+/// The prescribed dofs of a boundary, or (field, reason).
+fn boundary_dofs(bc: &BoundarySpec) -> std::result::Result<Vec<BoundaryDof>, (String, String)> {
+    let comps = [&bc.x, &bc.y, &bc.z];
+    if bc.clamped {
+        if comps.iter().any(|c| c.is_some()) {
+            return Err((
+                "clamped".into(),
+                "clamped = true cannot be combined with x, y or z".into(),
+            ));
+        }
+        return Ok((0..3)
+            .map(|component| BoundaryDof {
+                component,
+                law: DofLaw::Velocity(TimeFunction::constant(0.0)),
+            })
+            .collect());
+    }
+    let mut dofs = Vec::new();
+    for (component, c) in comps.iter().enumerate() {
+        let Some(c) = c else { continue };
+        let axis = ["x", "y", "z"][component];
+        dofs.push(BoundaryDof {
+            component,
+            law: component_law(c).map_err(|r| (axis.to_string(), r))?,
+        });
+    }
+    if dofs.is_empty() {
+        return Err((
+            "x".into(),
+            "a boundary must prescribe at least one component (or clamped = true)".into(),
+        ));
+    }
+    Ok(dofs)
+}
+
+fn component_law(c: &ComponentSpec) -> std::result::Result<DofLaw, String> {
+    if !(c.ramp_time.is_finite() && c.ramp_time >= 0.0) {
+        return Err(format!(
+            "ramp_time must be a non-negative number, got {}",
+            c.ramp_time
+        ));
+    }
+    let f = |amplitude: f64| TimeFunction {
+        amplitude,
+        ramp: c.ramp,
+        ramp_time: c.ramp_time,
+    };
+    match (c.velocity, c.traction) {
+        (Some(v), None) if v.is_finite() => Ok(DofLaw::Velocity(f(v))),
+        (None, Some(t)) if t.is_finite() => Ok(DofLaw::Traction(f(t))),
+        (Some(_), Some(_)) => Err("give either `velocity` or `traction`, not both".into()),
+        (None, None) => Err("give `velocity` or `traction`".into()),
+        _ => Err("value must be finite".into()),
+    }
+}
+
+/// Builds the discrete problem of a validated scene.
+pub fn build(spec: &SceneSpec, source: &str) -> Result<Problem> {
+    validate(spec, source)?;
+    let materials: Vec<(String, Material)> = spec
+        .materials
+        .iter()
+        .map(|m| {
+            (
+                m.name.clone(),
+                Material {
+                    young: m.young,
+                    poisson: m.poisson,
+                    density: m.density,
+                },
+            )
+        })
+        .collect();
+    let mut subs = Vec::new();
+    let mut body_subs: Vec<Vec<usize>> = Vec::new();
+    for b in &spec.bodies {
+        let material_id = materials
+            .iter()
+            .position(|m| m.0 == b.material)
+            .unwrap_or_default();
+        let [sx, sy, sz] = b.split;
+        let div = [
+            b.divisions[0] / sx,
+            b.divisions[1] / sy,
+            b.divisions[2] / sz,
+        ];
+        let mut ids = Vec::new();
+        for iz in 0..sz {
+            for iy in 0..sy {
+                for ix in 0..sx {
+                    let cell = [ix, iy, iz];
+                    let lo = std::array::from_fn(|a| lerp(b.min[a], b.max[a], cell[a], b.split[a]));
+                    let hi =
+                        std::array::from_fn(|a| lerp(b.min[a], b.max[a], cell[a] + 1, b.split[a]));
+                    let name = if b.split == [1, 1, 1] {
+                        b.name.clone()
+                    } else {
+                        format!("{}[{ix},{iy},{iz}]", b.name)
+                    };
+                    ids.push(subs.len());
+                    subs.push(Substructure::assemble(
+                        name,
+                        b.name.clone(),
+                        material_id,
+                        Mesh::hex_box(lo, hi, div),
+                        materials[material_id].1,
+                        b.velocity,
+                    ));
+                }
+            }
+        }
+        body_subs.push(ids);
+    }
+    let rule = |a: &str, b: &str| -> PairRule {
+        let Some(it) = spec.interfaces.iter().find(|i| {
+            (i.bodies[0] == a && i.bodies[1] == b) || (i.bodies[0] == b && i.bodies[1] == a)
+        }) else {
+            return PairRule::Perfect;
+        };
+        match it.kind {
+            InterfaceKind::Perfect => PairRule::Perfect,
+            InterfaceKind::Free => PairRule::Free,
+            InterfaceKind::Contact => PairRule::Contact {
+                friction: it.friction.unwrap_or(0.0),
+                gap: it.gap,
+                search: it.search.unwrap_or(0.0),
+            },
+        }
+    };
+    let mut interfaces = detect_interfaces(&subs, &rule)?;
+    for (i, bc) in spec.boundaries.iter().enumerate() {
+        let (axis, sign) = face_of(&bc.face).unwrap_or((0, 1.0));
+        let body = spec
+            .bodies
+            .iter()
+            .position(|b| b.name == bc.body)
+            .unwrap_or_default();
+        let b = &spec.bodies[body];
+        let value = if sign > 0.0 { b.max[axis] } else { b.min[axis] };
+        let dofs = boundary_dofs(bc)
+            .map_err(|(f, r)| LopinError::scene(source, format!("boundary[{i}].{f}"), r))?;
+        for &s in &body_subs[body] {
+            let name = format!("{}:{}", subs[s].name, bc.face);
+            if let Some(it) = boundary_interface(&subs, s, axis, sign, value, &dofs, name) {
+                interfaces.push(it);
+            }
+        }
+    }
+    assemble_traces(&mut subs, &mut interfaces);
+    Ok(Problem {
+        name: spec.name.clone(),
+        materials,
+        subs,
+        interfaces,
+        time: spec.time,
+    })
+}
+
+fn lerp(a: f64, b: f64, i: usize, n: usize) -> f64 {
+    if i == n {
+        b
+    } else {
+        a + (b - a) * i as f64 / n as f64
+    }
+}

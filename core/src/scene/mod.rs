@@ -1,0 +1,59 @@
+//! Scenes: the description schema ([`spec`]), the built-in registry ([`registry`]), TOML
+//! reading, and the builder that turns a description into a [`crate::Problem`] ([`build`]).
+
+pub mod build;
+pub mod registry;
+pub mod spec;
+
+use crate::error::{LopinError, Result};
+pub use spec::SceneSpec;
+
+/// Parses a scene from TOML text; `source` (usually the file path) names it in errors.
+pub fn from_toml(text: &str, source: &str) -> Result<SceneSpec> {
+    let spec: SceneSpec = toml::from_str(text).map_err(|e| {
+        let field = e
+            .span()
+            .map(|s| field_at(text, s.start))
+            .unwrap_or_else(|| "(document)".into());
+        LopinError::scene(source, field, e.message().to_string())
+    })?;
+    build::validate(&spec, source)?;
+    Ok(spec)
+}
+
+/// Writes a scene as TOML.
+pub fn to_toml(spec: &SceneSpec) -> String {
+    toml::to_string_pretty(spec)
+        .unwrap_or_else(|e| unreachable!("scene specs always serialize: {e}"))
+}
+
+/// Reads a scene: a registry name, or a path to a TOML file (not on wasm32, which has no files).
+pub fn load(name_or_path: &str) -> Result<SceneSpec> {
+    if let Some(spec) = registry::builtin(name_or_path) {
+        return Ok(spec);
+    }
+    #[cfg(not(target_arch = "wasm32"))]
+    {
+        let path = std::path::Path::new(name_or_path);
+        if path.exists() {
+            let text = std::fs::read_to_string(path).map_err(|e| LopinError::Io {
+                path: name_or_path.to_string(),
+                reason: e.to_string(),
+            })?;
+            return from_toml(&text, name_or_path);
+        }
+    }
+    Err(LopinError::UnknownScene {
+        name: name_or_path.to_string(),
+        known: registry::SCENES.join(", "),
+    })
+}
+
+/// "line L, column C (near `key`)" for a byte offset of a TOML document.
+fn field_at(text: &str, offset: usize) -> String {
+    let before = &text[..offset.min(text.len())];
+    let line = before.matches('\n').count() + 1;
+    let col = before.len() - before.rfind('\n').map_or(0, |p| p + 1) + 1;
+    let line_text = text.lines().nth(line - 1).unwrap_or("").trim();
+    format!("line {line}, column {col} (`{line_text}`)")
+}

@@ -1,0 +1,240 @@
+//! The scene description: the serde schema shared by the registry and TOML scene files
+//! (materials, boxes with mesh divisions and substructure splits, interface overrides, boundary
+//! conditions, time grid, solver settings), plus `--refine` and `--split`.
+
+use serde::{Deserialize, Serialize};
+
+use crate::time_function::{Ramp, TimeGrid};
+
+/// A whole scene.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneSpec {
+    /// Scene name.
+    pub name: String,
+    /// One-line description.
+    #[serde(default)]
+    pub description: String,
+    /// Axes whose mesh divisions `--refine k` multiplies (e.g. "x" for the 1D bar).
+    #[serde(default = "default_refine_axes")]
+    pub refine_axes: String,
+    /// Axes whose substructure count `--split n` multiplies.
+    #[serde(default = "default_split_axes")]
+    pub split_axes: String,
+    /// Time grid.
+    pub time: TimeGrid,
+    /// Solver settings (all optional; defaults of METHOD §10).
+    #[serde(default)]
+    pub solver: SolverSpec,
+    /// Materials.
+    #[serde(rename = "material")]
+    pub materials: Vec<MaterialSpec>,
+    /// Bodies: boxes meshed with hexahedra and cut into substructures.
+    #[serde(rename = "body")]
+    pub bodies: Vec<BodySpec>,
+    /// How pairs of bodies are joined (default: perfect where they touch).
+    #[serde(default, rename = "interface", skip_serializing_if = "Vec::is_empty")]
+    pub interfaces: Vec<InterfaceSpec>,
+    /// Boundary conditions on faces of bodies (faces not named are free).
+    #[serde(default, rename = "boundary", skip_serializing_if = "Vec::is_empty")]
+    pub boundaries: Vec<BoundarySpec>,
+}
+
+fn default_refine_axes() -> String {
+    "xyz".into()
+}
+
+fn default_split_axes() -> String {
+    "xy".into()
+}
+
+/// Optional solver settings carried by a scene.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SolverSpec {
+    /// Stopping tolerance on η.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tol: Option<f64>,
+    /// Relaxation μ.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mu: Option<f64>,
+    /// Search direction k (Pa·s/m).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub k: Option<f64>,
+    /// Iteration limit.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_iter: Option<usize>,
+    /// Time-window length in steps (absent: whole interval).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub window: Option<usize>,
+}
+
+/// A named material.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialSpec {
+    /// Name referenced by bodies.
+    pub name: String,
+    /// Young's modulus E (Pa).
+    pub young: f64,
+    /// Poisson's ratio ν.
+    pub poisson: f64,
+    /// Density ρ (kg/m³).
+    pub density: f64,
+}
+
+/// A box-shaped body.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BodySpec {
+    /// Name referenced by interfaces and boundaries.
+    pub name: String,
+    /// Material name.
+    pub material: String,
+    /// Lower corner (m).
+    pub min: [f64; 3],
+    /// Upper corner (m).
+    pub max: [f64; 3],
+    /// Hexahedra along x, y, z for the whole body.
+    pub divisions: [usize; 3],
+    /// Substructures along x, y, z (each must divide the divisions).
+    #[serde(default = "ones")]
+    pub split: [usize; 3],
+    /// Initial velocity (m/s).
+    #[serde(default)]
+    pub velocity: [f64; 3],
+}
+
+fn ones() -> [usize; 3] {
+    [1, 1, 1]
+}
+
+/// Kind of junction between two bodies.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum InterfaceKind {
+    /// Perfect bond.
+    Perfect,
+    /// Unilateral contact with Coulomb friction.
+    Contact,
+    /// No interaction.
+    Free,
+}
+
+/// Override for the junction between two bodies.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InterfaceSpec {
+    /// The two bodies.
+    pub bodies: [String; 2],
+    /// Kind of junction.
+    pub kind: InterfaceKind,
+    /// Friction coefficient (contact).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub friction: Option<f64>,
+    /// Initial gap g0 (contact; default: the geometric distance).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gap: Option<f64>,
+    /// Largest distance at which facing faces are paired (contact; default 0: touching).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub search: Option<f64>,
+}
+
+/// A boundary condition on one face of a body's box.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BoundarySpec {
+    /// Body name.
+    pub body: String,
+    /// Face of the body's box: "x-", "x+", "y-", "y+", "z-" or "z+".
+    pub face: String,
+    /// Shorthand for zero velocity on x, y and z.
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub clamped: bool,
+    /// Prescription on the x component (absent: free).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub x: Option<ComponentSpec>,
+    /// Prescription on the y component.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub y: Option<ComponentSpec>,
+    /// Prescription on the z component.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub z: Option<ComponentSpec>,
+}
+
+fn is_false(b: &bool) -> bool {
+    !*b
+}
+
+/// A prescribed velocity or traction on one component, with its ramp.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ComponentSpec {
+    /// Velocity amplitude V₀ (m/s).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub velocity: Option<f64>,
+    /// Traction amplitude (Pa, force per area on the body).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub traction: Option<f64>,
+    /// Ramp profile ("cosine" default, "linear", "step").
+    #[serde(default)]
+    pub ramp: Ramp,
+    /// Ramp duration t_r (s).
+    #[serde(default)]
+    pub ramp_time: f64,
+}
+
+impl ComponentSpec {
+    /// A velocity with the default (1 − cos) ramp.
+    pub fn velocity(v: f64, ramp_time: f64) -> Self {
+        Self {
+            velocity: Some(v),
+            traction: None,
+            ramp: Ramp::Cosine,
+            ramp_time,
+        }
+    }
+}
+
+impl SceneSpec {
+    /// Multiplies the mesh divisions along `refine_axes` by k.
+    pub fn refine(&mut self, k: usize) {
+        let axes = axes_of(&self.refine_axes);
+        for b in &mut self.bodies {
+            for &a in &axes {
+                b.divisions[a] *= k;
+            }
+        }
+    }
+
+    /// Multiplies the number of substructures along `split_axes` by n.
+    pub fn split(&mut self, n: usize) {
+        let axes = axes_of(&self.split_axes);
+        for b in &mut self.bodies {
+            for &a in &axes {
+                b.split[a] *= n;
+            }
+        }
+    }
+
+    /// Sets the friction coefficient of every contact override.
+    pub fn set_friction(&mut self, f: f64) {
+        for i in &mut self.interfaces {
+            if i.kind == InterfaceKind::Contact {
+                i.friction = Some(f);
+            }
+        }
+    }
+}
+
+/// Axis indices named in a string such as "xy".
+pub fn axes_of(s: &str) -> Vec<usize> {
+    s.chars()
+        .filter_map(|c| match c {
+            'x' => Some(0),
+            'y' => Some(1),
+            'z' => Some(2),
+            _ => None,
+        })
+        .collect()
+}
