@@ -5,6 +5,7 @@ use serde::{Deserialize, Serialize};
 
 /// The uniform time grid t_m = m Δt, m = 0..=steps (METHOD §1).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct TimeGrid {
     /// Time step Δt (s).
     pub dt: f64,

@@ -1,0 +1,70 @@
+//! `bar` and `bar-bimaterial` at `--refine 4` against d'Alembert: behind the front
+//! σ_xx = −ρ c V0 and v_x = V0; at the steel/aluminium change the transmitted stress is
+//! 2 Z2 / (Z1 + Z2) times the incident one (SCENES.md). Tolerances: 0.5 % on plateau means
+//! (discretization and ramp), converged to η < 1e-6.
+
+use lopin_core::mesh::Element;
+use lopin_core::{post, scene, Solution, Solver};
+use lopin_tests::solve;
+
+/// Mean σ_xx and mean v_x over elements whose centre x lies in [lo, hi], at step m.
+fn plateau(solver: &Solver, sol: &Solution, m: usize, lo: f64, hi: f64) -> (f64, f64) {
+    let fields = post::fields_at(solver, sol, m);
+    let (mut s, mut v, mut n) = (0.0, 0.0, 0.0);
+    for (i, sub) in solver.problem().subs.iter().enumerate() {
+        let stress = post::element_stress(solver, i, &fields[i].u);
+        for (e, el) in sub.mesh.elements.iter().enumerate() {
+            let Element::Hex8(nodes) = el;
+            let xc = nodes.iter().map(|&k| sub.mesh.nodes[k][0]).sum::<f64>() / 8.0;
+            if (lo..=hi).contains(&xc) {
+                s += stress[e][0];
+                v += nodes.iter().map(|&k| fields[i].v[3 * k]).sum::<f64>() / 8.0;
+                n += 1.0;
+            }
+        }
+    }
+    assert!(n > 0.0, "no element in [{lo}, {hi}]");
+    (s / n, v / n)
+}
+
+fn refined(name: &str) -> scene::SceneSpec {
+    let mut spec = scene::registry::builtin(name).expect("registry scene");
+    spec.refine(4);
+    spec
+}
+
+#[test]
+fn bar_stress_and_velocity_plateaus_match_dalembert() {
+    let (solver, sol) = solve(&refined("bar"), |s| s.tol = 1e-6);
+    assert!(sol.converged);
+    let steel = solver.problem().materials[0].1;
+    let exact = -steel.density * steel.bar_speed() * 10.0;
+    // t = 15 µs: front at c t = 0.078 m, ramp tail 0.0104 m behind it
+    let (sigma, v) = plateau(&solver, &sol, 150, 0.005, 0.06);
+    println!(
+        "bar: sigma {sigma:.5e} (exact {exact:.5e}, rel {:.2e}), v {v:.5}",
+        sigma / exact - 1.0
+    );
+    assert!((sigma / exact - 1.0).abs() < 5e-3);
+    assert!((v / 10.0 - 1.0).abs() < 5e-3);
+}
+
+#[test]
+fn bar_bimaterial_transmission_matches_impedance_ratio() {
+    let (solver, sol) = solve(&refined("bar-bimaterial"), |s| s.tol = 1e-6);
+    assert!(sol.converged);
+    let m = &solver.problem().materials;
+    let (z1, z2) = (
+        m[0].1.density * m[0].1.bar_speed(),
+        m[1].1.density * m[1].1.bar_speed(),
+    );
+    let incident_exact = -z1 * 10.0;
+    // incident: t = 8 µs (front at 0.0415 m); transmitted: t = 15 µs (front at 0.077 m)
+    let (incident, _) = plateau(&solver, &sol, 80, 0.005, 0.028);
+    let (transmitted, _) = plateau(&solver, &sol, 150, 0.052, 0.065);
+    let ratio = transmitted / incident;
+    let exact = 2.0 * z2 / (z1 + z2);
+    println!("bar-bimaterial: incident {incident:.5e} (exact {incident_exact:.5e}), ratio {ratio:.5} (exact {exact:.5})");
+    assert!((incident / incident_exact - 1.0).abs() < 5e-3);
+    assert!((ratio / exact - 1.0).abs() < 5e-3);
+}

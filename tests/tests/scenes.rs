@@ -1,0 +1,332 @@
+//! Scene-level validation: files equal the registry, bad files give clear errors, every scene
+//! runs without NaN, friction changes `two-blocks`, `gap-impact` neither penetrates nor creates
+//! energy, and the decomposition, time windows and warm start do not change the converged
+//! solution beyond what the tolerance implies.
+
+use lopin_core::{post, scene, Control, LopinError, Settings, Solver};
+use lopin_tests::{rel_diff, solve, velocity_history};
+
+fn asset(name: &str) -> String {
+    format!(
+        "{}/../assets/scenes/{name}.toml",
+        env!("CARGO_MANIFEST_DIR")
+    )
+}
+
+#[test]
+fn scene_files_and_registry_give_identical_problems() {
+    for name in scene::registry::SCENES {
+        let from_file = scene::load(&asset(name)).expect("asset parses");
+        let builtin = scene::registry::builtin(name).expect("registered");
+        assert_eq!(from_file, builtin, "{name}: file and registry differ");
+        let a = scene::build::build(&from_file, name).expect("builds");
+        let b = scene::build::build(&builtin, name).expect("builds");
+        assert_eq!(a.interfaces, b.interfaces);
+        assert_eq!(a.subs.len(), b.subs.len());
+        for (x, y) in a.subs.iter().zip(&b.subs) {
+            assert_eq!(x.mesh, y.mesh);
+            assert_eq!(x.mass, y.mass);
+            assert_eq!(x.trace_dofs, y.trace_dofs);
+        }
+    }
+}
+
+/// Each malformed file gives an error naming the file, the field and the reason.
+#[test]
+fn malformed_scene_files_get_clear_errors() {
+    let good = std::fs::read_to_string(asset("two-blocks")).expect("asset");
+    let cases: [(&str, String, &str, &str); 8] = [
+        (
+            "missing dt",
+            good.replace("dt = 0.25e-6\n", ""),
+            "line",
+            "missing field `dt`",
+        ),
+        (
+            "text for a number",
+            good.replace("steps = 60", "steps = \"sixty\""),
+            "steps",
+            "invalid type",
+        ),
+        (
+            "unknown key",
+            good.replace("steps = 60", "steps = 60\nstep = 3"),
+            "step",
+            "unknown field",
+        ),
+        (
+            "negative modulus",
+            good.replace("young = 70e9", "young = -70e9"),
+            "material[1].young",
+            "positive",
+        ),
+        (
+            "unknown material",
+            good.replace("material = \"aluminium\"", "material = \"brass\""),
+            "body[1].material",
+            "brass",
+        ),
+        (
+            "split does not divide",
+            good.replace(
+                "divisions = [10, 10, 5]\n\n[[body]]",
+                "divisions = [10, 10, 5]\nsplit = [3, 1, 1]\n\n[[body]]",
+            ),
+            "body[0].split",
+            "do not divide",
+        ),
+        (
+            "bad face",
+            good.replace("face = \"z+\"", "face = \"top\""),
+            "boundary[0].face",
+            "top",
+        ),
+        (
+            "poisson too large",
+            good.replace("poisson = 0.30", "poisson = 0.5"),
+            "material[0].poisson",
+            "(-1, 0.5)",
+        ),
+    ];
+    let dir = std::env::temp_dir().join(format!("lopin-bad-scenes-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    for (what, text, field, reason) in cases {
+        assert_ne!(text, good, "{what}: the edit did not apply");
+        let path = dir.join("bad.toml");
+        std::fs::write(&path, &text).expect("write");
+        let err = scene::load(path.to_str().expect("utf8")).expect_err(what);
+        let msg = err.to_string();
+        assert!(matches!(err, LopinError::Scene { .. }), "{what}: {msg}");
+        assert!(msg.contains("bad.toml"), "{what}: no file name in `{msg}`");
+        assert!(msg.contains(field), "{what}: no field `{field}` in `{msg}`");
+        assert!(
+            msg.contains(reason),
+            "{what}: no reason `{reason}` in `{msg}`"
+        );
+    }
+    let err = scene::load("no-such-scene").expect_err("unknown");
+    assert!(
+        err.to_string().contains("two-blocks"),
+        "lists the known scenes: {err}"
+    );
+}
+
+#[test]
+fn nonconforming_meshes_are_rejected() {
+    let mut spec = scene::registry::builtin("two-blocks").expect("registry");
+    spec.bodies[0].divisions = [8, 8, 5];
+    let err = scene::build::build(&spec, "test").expect_err("nonconforming");
+    assert!(matches!(err, LopinError::NonConforming { .. }), "{err}");
+    assert!(err.to_string().contains("do not match"));
+}
+
+/// No NaN, ever: every registry scene at its default settings converges with finite fields.
+#[test]
+fn every_registry_scene_runs_without_nan() {
+    for name in scene::registry::SCENES {
+        let spec = scene::registry::builtin(name).expect("registry");
+        let (solver, sol) = solve(&spec, |_| {});
+        assert!(sol.converged, "{name}: eta {}", sol.eta);
+        assert!(
+            sol.eta_history.iter().all(|e| e.is_finite()),
+            "{name}: eta not finite"
+        );
+        let v = velocity_history(&solver, &sol);
+        assert!(
+            v.iter().flatten().flatten().all(|x| x.is_finite()),
+            "{name}: NaN velocity"
+        );
+        let s = post::summary(&solver, &sol);
+        for x in [
+            s.kinetic_end,
+            s.strain_end,
+            s.input_work,
+            s.max_total_over_input,
+            s.max_slip,
+            s.peak_normal_force,
+        ] {
+            assert!(x.is_finite(), "{name}: non-finite summary {s:?}");
+        }
+        println!("{name}: {} iterations, eta {:.2e}", sol.iterations, sol.eta);
+    }
+}
+
+/// Friction matters in `two-blocks`: f = 0 slips more than f = 0.5 and the velocity fields
+/// differ by more than 1 % (the tolerance-level noise is ~1e-3).
+#[test]
+fn friction_changes_two_blocks_slip_and_velocities() {
+    let mut runs = Vec::new();
+    for f in [0.0, 0.5] {
+        let mut spec = scene::registry::builtin("two-blocks").expect("registry");
+        spec.set_friction(f);
+        let (solver, sol) = solve(&spec, |s| s.tol = 1e-5);
+        let slip = post::summary(&solver, &sol).max_slip;
+        runs.push((slip, velocity_history(&solver, &sol)));
+    }
+    let diff = rel_diff(&runs[1].1, &runs[0].1);
+    println!(
+        "two-blocks: slip f=0 {:.3e} m, f=0.5 {:.3e} m, velocity difference {diff:.3e}",
+        runs[0].0, runs[1].0
+    );
+    assert!(runs[0].0 > 1e-6, "f = 0 slips");
+    assert!(runs[1].0 < 0.5 * runs[0].0, "f = 0.5 slips less");
+    assert!(diff > 1e-2, "velocity fields differ");
+}
+
+/// `gap-impact`: no interpenetration beyond Δt |v| / 2 (persistent law, METHOD §5), total energy
+/// never above the initial energy plus input work (to 1e-6), the contact closes then opens.
+#[test]
+fn gap_impact_neither_penetrates_nor_creates_energy() {
+    let spec = scene::registry::builtin("gap-impact").expect("registry");
+    let (solver, sol) = solve(&spec, |_| {});
+    assert!(sol.converged);
+    let contact = post::contact(&solver, &sol);
+    let bound = spec.time.dt * 5.0 / 2.0;
+    let min_gap = contact[0].min_gap();
+    let e = post::energy(&solver, &sol);
+    let ratio = e.max_total_over_input();
+    let n = spec.time.steps;
+    let closed = contact[0]
+        .normal_force
+        .iter()
+        .position(|&f| f > 0.0)
+        .expect("contact closes");
+    let reopened = contact[0].normal_force[closed..]
+        .iter()
+        .position(|&f| f == 0.0)
+        .map(|i| i + closed);
+    println!("gap-impact: min gap {min_gap:.3e} (bound -{bound:.3e}), max E/(E0+W) {ratio:.9}, closes at step {closed}, reopens at {reopened:?}");
+    assert!(min_gap >= -bound * (1.0 + 1e-9), "penetration {min_gap}");
+    assert!(ratio <= 1.0 + 1e-6, "energy created: {ratio}");
+    assert!(reopened.is_some_and(|m| m < n), "contact reopens");
+    assert!(contact[0].normal_force[n] == 0.0, "separated at the end");
+    // A bounces back: its mean vertical velocity is upwards at the end
+    let fields = post::fields_at(&solver, &sol, n);
+    let vz: f64 =
+        fields[0].v.iter().skip(2).step_by(3).sum::<f64>() / (fields[0].v.len() / 3) as f64;
+    assert!(vz > 0.0, "A moves up at the end: {vz}");
+}
+
+/// Cutting each block into 2 × 2 substructures does not change the discrete problem: converged
+/// to η < 1e-8, split and unsplit velocities agree to 1e-5 (relative to max |v|).
+#[test]
+fn split_two_blocks_matches_unsplit() {
+    let spec = scene::registry::builtin("two-blocks").expect("registry");
+    let (s1, a) = solve(&spec, |s| s.tol = 1e-8);
+    let mut split = spec.clone();
+    split.split(2);
+    let (s2, b) = solve(&split, |s| s.tol = 1e-8);
+    assert_eq!(s2.problem().subs.len(), 8);
+    assert!(a.converged && b.converged);
+    // compare at every node of the unsplit meshes by coordinates
+    let va = velocity_history(&s1, &a);
+    let vb = velocity_history(&s2, &b);
+    let (mut diff, mut scale) = (0.0f64, 0.0f64);
+    for (m, row) in va.iter().enumerate() {
+        for (i, sub) in s1.problem().subs.iter().enumerate() {
+            for (k, x) in sub.mesh.nodes.iter().enumerate() {
+                let (j, l) = find_node(&s2, &sub.body, x);
+                for c in 0..3 {
+                    diff = diff.max((row[i][3 * k + c] - vb[m][j][3 * l + c]).abs());
+                    scale = scale.max(row[i][3 * k + c].abs());
+                }
+            }
+        }
+    }
+    println!(
+        "split 2: {} vs {} iterations, rel diff {:.2e}",
+        a.iterations,
+        b.iterations,
+        diff / scale
+    );
+    assert!(diff / scale < 1e-5);
+}
+
+/// The first substructure of `body` holding a node at x, and that node.
+fn find_node(solver: &Solver, body: &str, x: &[f64; 3]) -> (usize, usize) {
+    for (j, sub) in solver
+        .problem()
+        .subs
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| s.body == body)
+    {
+        for (l, y) in sub.mesh.nodes.iter().enumerate() {
+            if (0..3).all(|c| (x[c] - y[c]).abs() < 1e-9) {
+                return (j, l);
+            }
+        }
+    }
+    panic!("node {x:?} not found");
+}
+
+/// Time windows (METHOD §7): incremental (window 1) and windows of 10 steps converge to the
+/// non-incremental solution (η < 1e-8, difference < 1e-6 of max |v|).
+#[test]
+fn time_windows_converge_to_the_same_solution() {
+    let spec = scene::registry::builtin("bar").expect("registry");
+    let (s0, full) = solve(&spec, |s| s.tol = 1e-8);
+    let reference = velocity_history(&s0, &full);
+    for window in [1, 10] {
+        let (s, sol) = solve(&spec, |s| {
+            s.tol = 1e-8;
+            s.window = Some(window);
+        });
+        assert!(sol.converged);
+        let d = rel_diff(&velocity_history(&s, &sol), &reference);
+        println!(
+            "bar window {window}: {} iterations ({:.2}/step), diff {d:.2e}",
+            sol.iterations,
+            sol.iterations as f64 / 150.0
+        );
+        assert!(d < 1e-6, "window {window}: {d}");
+    }
+}
+
+/// Warm start (METHOD §8): restarting from a converged state converges at once; after a change
+/// of f it needs fewer iterations than cold, and agrees with the cold solution within the
+/// accuracy the tolerance implies (both at η < 1e-6: difference < 1e-4 of max |v|).
+#[test]
+fn warm_start_reuses_the_previous_solution() {
+    let spec = scene::registry::builtin("two-blocks").expect("registry");
+    let problem = scene::build::build(&spec, "two-blocks").expect("builds");
+    let mut settings = Settings::for_problem(&problem, &spec.solver);
+    settings.tol = 1e-6;
+    let mut solver = Solver::new(problem, settings).expect("factorizes");
+    let first = solver.solve(None).expect("solve");
+    let again = solver.solve(Some(&first.state)).expect("solve");
+    assert_eq!(again.iterations, 1, "restart from the converged state");
+    solver.set_friction(0.35).expect("f");
+    let warm = solver.solve(Some(&first.state)).expect("solve");
+    let warm_v = velocity_history(&solver, &warm);
+    let cold = solver.solve(None).expect("solve");
+    let cold_v = velocity_history(&solver, &cold);
+    let d = rel_diff(&warm_v, &cold_v);
+    println!(
+        "warm start f 0.3 -> 0.35: warm {} vs cold {} iterations, diff {d:.2e}",
+        warm.iterations, cold.iterations
+    );
+    assert!(warm.converged && cold.converged);
+    assert!(warm.iterations < cold.iterations);
+    assert!(d < 1e-4);
+}
+
+#[test]
+fn an_observer_can_cancel_a_solve() {
+    let spec = scene::registry::builtin("two-blocks").expect("registry");
+    let problem = scene::build::build(&spec, "two-blocks").expect("builds");
+    let settings = Settings::for_problem(&problem, &spec.solver);
+    let mut solver = Solver::new(problem, settings).expect("factorizes");
+    let sol = solver
+        .solve_with(None, &mut |r| {
+            if r.iteration == 3 {
+                Control::Stop
+            } else {
+                Control::Continue
+            }
+        })
+        .expect("solve");
+    assert!(sol.cancelled && !sol.converged);
+    assert_eq!(sol.iterations, 3);
+    assert_eq!(solver.counters().iterations.len(), 3);
+}
