@@ -50,6 +50,9 @@ impl SubState {
     }
 }
 
+/// Called at every step with (m, state at m, F_m, W_m of the trace).
+pub type StepVisitor<'a> = dyn FnMut(usize, &SubState, &[f64], &[f64]) + 'a;
+
 /// Numerator and denominator sums of η² (METHOD §6).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct IndicatorSums {
@@ -144,7 +147,7 @@ pub fn linear_stage(
     work: &mut LinearWork,
     input: &LinearInput<'_>,
     out: &mut TraceHistory,
-    mut visit: Option<&mut dyn FnMut(usize, &SubState, &[f64], &[f64])>,
+    mut visit: Option<&mut StepVisitor<'_>>,
 ) -> IndicatorSums {
     let (k, dt) = (input.k, input.dt);
     let (m0, m1) = input.steps;

@@ -6,7 +6,7 @@
 use crate::counters::Instant;
 use crate::hex8;
 use crate::interface::Law;
-use crate::linear_stage::{linear_stage, LinearInput, LinearWork, SubState};
+use crate::linear_stage::{linear_stage, LinearInput, LinearWork, StepVisitor};
 use crate::mesh::{dot, Element, Vec3};
 use crate::par;
 use crate::solver::{Solution, Solver};
@@ -19,7 +19,7 @@ pub fn replay(
     sol: &Solution,
     i: usize,
     until: usize,
-    visit: &mut dyn FnMut(usize, &SubState, &[f64], &[f64]),
+    visit: &mut StepVisitor<'_>,
 ) {
     let p = solver.problem();
     let sub = &p.subs[i];
