@@ -223,6 +223,13 @@ mod tests {
     }
 
     #[test]
+    fn von_mises_of_uniaxial_and_pure_shear() {
+        assert!((von_mises(&[-3.0, 0.0, 0.0, 0.0, 0.0, 0.0]) - 3.0).abs() < 1e-15);
+        assert!((von_mises(&[0.0, 0.0, 0.0, 2.0, 0.0, 0.0]) - 2.0 * 3f64.sqrt()).abs() < 1e-15);
+        assert!(von_mises(&[5.0, 5.0, 5.0, 0.0, 0.0, 0.0]).abs() < 1e-15);
+    }
+
+    #[test]
     fn uniaxial_strain_gives_hooke_stress() {
         let x = brick([1.0, 1.0, 1.0]);
         let mat = Material {

@@ -68,3 +68,25 @@ fn bar_bimaterial_transmission_matches_impedance_ratio() {
     assert!((incident / incident_exact - 1.0).abs() < 5e-3);
     assert!((ratio / exact - 1.0).abs() < 5e-3);
 }
+
+/// A prescribed traction P on the end of `bar` (instead of a velocity) sends σ = −P and
+/// v = P/(ρc) behind the front (0.5 %).
+#[test]
+fn bar_under_prescribed_traction_matches_dalembert() {
+    let mut spec = refined("bar");
+    let steel = spec.materials[0].clone();
+    let z = (steel.density * steel.young).sqrt();
+    let p = z * 10.0;
+    let x = spec.boundaries[0].x.as_mut().expect("x prescribed");
+    x.velocity = None;
+    x.traction = Some(p);
+    let (solver, sol) = solve(&spec, |s| s.tol = 1e-6);
+    assert!(sol.converged);
+    let (sigma, v) = plateau(&solver, &sol, 150, 0.005, 0.06);
+    println!(
+        "bar under traction: sigma {sigma:.5e} (exact {:.5e}), v {v:.5} (exact 10)",
+        -p
+    );
+    assert!((sigma / -p - 1.0).abs() < 5e-3);
+    assert!((v / 10.0 - 1.0).abs() < 5e-3);
+}

@@ -331,3 +331,50 @@ fn an_observer_can_cancel_a_solve() {
     assert_eq!(sol.iterations, 3);
     assert_eq!(solver.counters().iterations.len(), 3);
 }
+
+/// Momentum balance (a conservation law of the discrete scheme, METHOD §2: K's rows sum to
+/// zero): the change of total momentum equals Δt × the step-averaged boundary forces, to 1e-6 of
+/// the total impulse at η < 1e-9. Also checks that changing f refactorizes nothing.
+#[test]
+fn momentum_change_equals_boundary_impulse() {
+    let spec = scene::registry::builtin("two-blocks").expect("registry");
+    let problem = scene::build::build(&spec, "two-blocks").expect("builds");
+    let mut settings = Settings::for_problem(&problem, &spec.solver);
+    settings.tol = 1e-9;
+    let mut solver = Solver::new(problem, settings).expect("factorizes");
+    let setup = solver.counters().setup_s;
+    solver.set_friction(0.2).expect("f");
+    let sol = solver.solve(None).expect("solve");
+    assert_eq!(
+        solver.counters().setup_s,
+        setup,
+        "no refactorization for a change of f"
+    );
+    let p = solver.problem();
+    let n = p.time.steps;
+    let forces = post::interface_forces(&solver, &sol);
+    let mut impulse = [0.0; 3];
+    for (k, iface) in p.interfaces.iter().enumerate() {
+        if iface.is_boundary() {
+            for m in 1..=n {
+                for c in 0..3 {
+                    impulse[c] += p.time.dt * forces[k][m][c];
+                }
+            }
+        }
+    }
+    let fields = post::fields_at(&solver, &sol, n);
+    let mut momentum = [0.0; 3];
+    for (sub, f) in p.subs.iter().zip(&fields) {
+        for (i, (&mass, &v)) in sub.mass.iter().zip(&f.v).enumerate() {
+            momentum[i % 3] += mass * v;
+        }
+    }
+    let scale = impulse.iter().map(|x| x.abs()).fold(0.0, f64::max);
+    let err = (0..3)
+        .map(|c| (momentum[c] - impulse[c]).abs())
+        .fold(0.0, f64::max)
+        / scale;
+    println!("two-blocks: momentum {momentum:?}, boundary impulse {impulse:?}, rel {err:.2e}");
+    assert!(err < 1e-6, "momentum balance {err}");
+}

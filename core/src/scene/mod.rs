@@ -51,7 +51,7 @@ pub fn load(name_or_path: &str) -> Result<SceneSpec> {
 
 /// "line L, column C (near `key`)" for a byte offset of a TOML document.
 fn field_at(text: &str, offset: usize) -> String {
-    let before = &text[..offset.min(text.len())];
+    let before = text.get(..offset).unwrap_or(text);
     let line = before.matches('\n').count() + 1;
     let col = before.len() - before.rfind('\n').map_or(0, |p| p + 1) + 1;
     let line_text = text.lines().nth(line - 1).unwrap_or("").trim();
