@@ -21,6 +21,8 @@ pub struct IterationRecord {
     pub local_s: f64,
     /// Seconds in the linear stage.
     pub linear_s: f64,
+    /// Substructure linear stages skipped because their inputs did not change.
+    pub skipped: usize,
 }
 
 /// Totals per stage, in seconds.
@@ -75,6 +77,11 @@ impl Counters {
                 Err(actual) => cur = actual,
             }
         }
+    }
+
+    /// Substructure linear stages skipped during the last solve.
+    pub fn skipped_solves(&self) -> usize {
+        self.iterations.iter().map(|r| r.skipped).sum()
     }
 
     /// Clears the per-solve counters (the setup time stays).

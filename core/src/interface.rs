@@ -35,6 +35,26 @@ pub struct BoundaryDof {
     pub law: DofLaw,
 }
 
+impl BoundaryDof {
+    /// Sets the amplitude of a non-zero prescribed velocity to `v` times the direction the
+    /// scene gave it (zero velocities, e.g. clamps, and tractions are left alone).
+    pub fn set_velocity_amplitude(&mut self, v: f64, nominal_sign: f64) {
+        if let DofLaw::Velocity(f) = &mut self.law {
+            if nominal_sign != 0.0 {
+                f.amplitude = nominal_sign * v;
+            }
+        }
+    }
+
+    /// Sign of the prescribed velocity amplitude (0 for zero velocities and tractions).
+    pub fn velocity_sign(&self) -> f64 {
+        match self.law {
+            DofLaw::Velocity(f) if f.amplitude != 0.0 => f.amplitude.signum(),
+            _ => 0.0,
+        }
+    }
+}
+
 /// Unilateral contact with Coulomb friction (METHOD §5).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Contact {

@@ -33,6 +33,7 @@ pub mod solver;
 pub mod sparse;
 pub mod state;
 pub mod substructure;
+pub mod sweep;
 pub mod time_function;
 
 pub use error::{LopinError, Result};

@@ -2,7 +2,7 @@
 //! interface parameters that can change without refactorizing anything (friction, gap;
 //! METHOD §8).
 
-use crate::interface::{Interface, Law};
+use crate::interface::{BoundaryDof, Interface, Law};
 use crate::material::Material;
 use crate::substructure::Substructure;
 use crate::time_function::TimeGrid;
@@ -20,6 +20,9 @@ pub struct Problem {
     pub interfaces: Vec<Interface>,
     /// Time grid.
     pub time: TimeGrid,
+    /// Sign of every boundary dof's prescribed velocity as built (per interface, per dof), so
+    /// that the amplitude can be swept through zero.
+    pub velocity_signs: Vec<Vec<f64>>,
 }
 
 impl Problem {
@@ -49,6 +52,30 @@ impl Problem {
         for i in &mut self.interfaces {
             if let Law::Contact(c) = &mut i.law {
                 c.friction = f;
+            }
+        }
+    }
+
+    /// Records the direction of every prescribed velocity (call once after building).
+    pub fn record_velocity_signs(&mut self) {
+        self.velocity_signs = self
+            .interfaces
+            .iter()
+            .map(|i| match &i.law {
+                Law::Boundary(d) => d.iter().map(BoundaryDof::velocity_sign).collect(),
+                _ => Vec::new(),
+            })
+            .collect();
+    }
+
+    /// Sets the amplitude of every non-zero prescribed velocity to `v` (m/s), keeping the
+    /// directions of the scene.
+    pub fn set_velocity_amplitude(&mut self, v: f64) {
+        for (i, signs) in self.interfaces.iter_mut().zip(&self.velocity_signs) {
+            if let Law::Boundary(d) = &mut i.law {
+                for (dof, &sign) in d.iter_mut().zip(signs) {
+                    dof.set_velocity_amplitude(v, sign);
+                }
             }
         }
     }

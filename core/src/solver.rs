@@ -19,6 +19,7 @@ use crate::par;
 use crate::problem::Problem;
 use crate::scene::spec::SolverSpec;
 use crate::state::{InterfaceState, TraceHistory};
+use crate::substructure::Substructure;
 
 /// Solver settings (METHOD §10 defaults: k = mean √(ρE), μ = 0.8, tol = 1e-3).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -33,6 +34,9 @@ pub struct Settings {
     pub max_iter: usize,
     /// Window length in steps (None: the whole interval, non-incremental).
     pub window: Option<usize>,
+    /// Skip the linear stage of a substructure whose interface inputs ŝ did not change (to a
+    /// relative 1e-12) since its last solve over the whole interval, reusing that solve's output.
+    pub skip_unchanged: bool,
 }
 
 impl Settings {
@@ -47,6 +51,7 @@ impl Settings {
             tol: spec.tol.unwrap_or(1e-3),
             max_iter: spec.max_iter.unwrap_or(Self::MAX_ITER),
             window: spec.window,
+            skip_unchanged: true,
         }
     }
 
@@ -115,8 +120,22 @@ pub struct Solver {
     settings: Settings,
     factors: Vec<CholeskyFactor>,
     works: Vec<LinearWork>,
+    cache: Vec<Option<LinearCache>>,
     counters: Counters,
 }
+
+/// Inputs and outputs of a substructure's last whole-interval linear stage (a pure function of
+/// ŝ once k, Δt and the mesh are fixed), for skipping unchanged work.
+#[derive(Debug, Clone)]
+struct LinearCache {
+    hat: Vec<f64>,
+    out: TraceHistory,
+    sums: IndicatorSums,
+    end: SubState,
+}
+
+/// Relative change below which a substructure's inputs count as unchanged.
+const UNCHANGED: f64 = 1e-12;
 
 impl Solver {
     /// Assembles and factorizes S = 2/Δt M + Δt/2 K + k Bᵀ A B for every substructure, once.
@@ -133,11 +152,13 @@ impl Solver {
             .collect();
         let mut counters = Counters::default();
         counters.setup_s = start.elapsed().as_secs_f64();
+        let cache = vec![None; problem.subs.len()];
         Ok(Self {
             problem,
             settings,
             factors,
             works,
+            cache,
             counters,
         })
     }
@@ -167,6 +188,7 @@ impl Solver {
                 .map(|(s, f)| LinearWork::new(s, f, dt))
                 .collect();
             self.counters.setup_s += start.elapsed().as_secs_f64();
+            self.cache.iter_mut().for_each(|c| *c = None);
         }
         self.settings = settings;
         Ok(())
@@ -193,6 +215,18 @@ impl Solver {
             ));
         }
         self.problem.set_gap(g0);
+        Ok(())
+    }
+
+    /// Sets the amplitude of every non-zero prescribed velocity (nothing is refactorized).
+    pub fn set_velocity_amplitude(&mut self, v: f64) -> Result<()> {
+        if !v.is_finite() {
+            return Err(LopinError::setting(
+                "v0",
+                format!("must be finite, got {v}"),
+            ));
+        }
+        self.problem.set_velocity_amplitude(v);
         Ok(())
     }
 
@@ -311,13 +345,42 @@ impl Solver {
                     dt: p.time.dt,
                     steps: (m0, m1),
                 };
-                let mut bundle: Vec<(&mut LinearWork, &mut TraceHistory)> =
-                    self.works.iter_mut().zip(s_new.subs.iter_mut()).collect();
+                let whole = set.skip_unchanged && m0 == 1 && m1 == n;
+                let mut bundle: Vec<(
+                    &mut LinearWork,
+                    &mut TraceHistory,
+                    &mut Option<LinearCache>,
+                )> = self
+                    .works
+                    .iter_mut()
+                    .zip(s_new.subs.iter_mut())
+                    .zip(self.cache.iter_mut())
+                    .map(|((w, o), c)| (w, o, c))
+                    .collect();
                 let (subs, factors, states) = (&p.subs, &self.factors, &sub_states);
-                let sums = par::map_mut(&mut bundle, |i, (work, out)| {
+                let results = par::map_mut(&mut bundle, |i, (work, out, cache)| {
+                    let sub = &subs[i];
+                    let hat = whole.then(|| gather_hat(sub, &hats));
+                    if let (Some(h), Some(c)) = (&hat, cache.as_ref()) {
+                        if unchanged(h, &c.hat) {
+                            out.f.copy_from_slice(&c.out.f);
+                            out.w.copy_from_slice(&c.out.w);
+                            work.state.clone_from(&c.end);
+                            return (c.sums, true);
+                        }
+                    }
                     work.state.clone_from(&states[i]);
-                    linear_stage(&subs[i], &factors[i], work, &lin, out, None)
+                    let sums = linear_stage(sub, &factors[i], work, &lin, out, None);
+                    **cache = hat.map(|hat| LinearCache {
+                        hat,
+                        out: (*out).clone(),
+                        sums,
+                        end: work.state.clone(),
+                    });
+                    (sums, false)
                 });
+                let skipped = results.iter().filter(|r| r.1).count();
+                let sums: Vec<IndicatorSums> = results.into_iter().map(|r| r.0).collect();
                 // 3. error indicator
                 last = IndicatorSums::default();
                 sums.into_iter().for_each(|x| last.add(x));
@@ -338,6 +401,7 @@ impl Solver {
                     eta,
                     local_s,
                     linear_s,
+                    skipped,
                 };
                 self.counters.iterations.push(record);
                 if observer(&record) == Control::Stop {
@@ -376,6 +440,27 @@ impl Solver {
             cancelled,
         })
     }
+}
+
+/// ŝ of every side of `sub`, all steps, concatenated (the inputs of its linear stage).
+fn gather_hat(sub: &Substructure, hats: &[Vec<TraceHistory>]) -> Vec<f64> {
+    let mut v = Vec::new();
+    for &(i, side) in &sub.sides {
+        v.extend_from_slice(&hats[i][side].f);
+        v.extend_from_slice(&hats[i][side].w);
+    }
+    v
+}
+
+/// Whether two input vectors agree to a relative 1e-12 (of the largest entry).
+fn unchanged(a: &[f64], b: &[f64]) -> bool {
+    if a.len() != b.len() {
+        return false;
+    }
+    let scale = a.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    a.iter()
+        .zip(b)
+        .all(|(x, y)| (x - y).abs() <= UNCHANGED * scale)
 }
 
 fn factorize(problem: &Problem, k: f64) -> Result<Vec<CholeskyFactor>> {

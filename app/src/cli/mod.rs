@@ -1,10 +1,13 @@
 //! Command-line definitions (clap) and dispatch to one module per subcommand.
 
 mod bench;
+mod plot;
 mod report;
 mod run;
 mod scenes;
 mod setup;
+mod sweep;
+mod sweep_store;
 
 use clap::{Parser, Subcommand};
 
@@ -20,6 +23,8 @@ pub struct Cli {
 enum Command {
     /// Solve a scene (built-in name or .toml file) and print a summary.
     Run(run::RunArgs),
+    /// Parametric study with warm starts (multiresolution), resumable.
+    Sweep(sweep::SweepArgs),
     /// Time setup, iterations and triangular solves on `two-blocks` (refine 1 and 2).
     Bench(bench::BenchArgs),
     /// List the built-in scenes.
@@ -35,6 +40,7 @@ enum Command {
 pub fn dispatch(cli: Cli) -> anyhow::Result<std::process::ExitCode> {
     match cli.command {
         Some(Command::Run(args)) => run::run(&args),
+        Some(Command::Sweep(args)) => sweep::sweep(&args),
         Some(Command::Bench(args)) => bench::bench(&args),
         Some(Command::Scenes) => scenes::list(),
         Some(Command::ExportScene { name }) => scenes::export(&name),

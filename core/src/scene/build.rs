@@ -353,13 +353,16 @@ pub fn build(spec: &SceneSpec, source: &str) -> Result<Problem> {
         }
     }
     assemble_traces(&mut subs, &mut interfaces);
-    Ok(Problem {
+    let mut problem = Problem {
         name: spec.name.clone(),
         materials,
         subs,
         interfaces,
         time: spec.time,
-    })
+        velocity_signs: Vec::new(),
+    };
+    problem.record_velocity_signs();
+    Ok(problem)
 }
 
 fn lerp(a: f64, b: f64, i: usize, n: usize) -> f64 {
