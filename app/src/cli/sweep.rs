@@ -229,8 +229,8 @@ pub fn sweep(args: &SweepArgs) -> anyhow::Result<ExitCode> {
                 (c.iterations.to_string(), format!("{:.3}", c.wall_s))
             });
             println!(
-                "{:>9.4} {:>7} {:>7} {:>10.3e} {:>9.3} {:>9} {:>12.4e} {:>11.4e} {:>11.4e} {:>7}",
-                r.value,
+                "{:>9} {:>7} {:>7} {:>10.3e} {:>9.3} {:>9} {:>12.4e} {:>11.4e} {:>11.4e} {:>7}",
+                format_value(r.value),
                 r.iterations,
                 ci,
                 r.eta,
@@ -259,4 +259,13 @@ pub fn sweep(args: &SweepArgs) -> anyhow::Result<ExitCode> {
     } else {
         ExitCode::from(1)
     })
+}
+
+/// A parameter value for the table: fixed point in the usual range, exponent otherwise.
+fn format_value(v: f64) -> String {
+    if v == 0.0 || (1e-2..1e4).contains(&v.abs()) {
+        format!("{v:.4}")
+    } else {
+        format!("{v:.3e}")
+    }
 }
