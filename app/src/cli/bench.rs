@@ -20,6 +20,9 @@ pub struct BenchArgs {
     /// LATIN iterations timed per refinement.
     #[arg(long, default_value_t = 10)]
     iterations: usize,
+    /// Disable the check for substructures whose inputs did not change (on by default).
+    #[arg(long)]
+    no_skip: bool,
 }
 
 pub fn bench(args: &BenchArgs) -> anyhow::Result<ExitCode> {
@@ -41,6 +44,9 @@ pub fn bench(args: &BenchArgs) -> anyhow::Result<ExitCode> {
         };
         let mut prepared = prepare(&sargs)?;
         let solver = &mut prepared.solver;
+        let mut settings = *solver.settings();
+        settings.skip_unchanged = !args.no_skip;
+        solver.set_settings(settings)?;
         let setup = solver.counters().setup_s;
         let start = Instant::now();
         let sol = solver.solve(None)?;
