@@ -371,12 +371,23 @@ impl Solver {
                     }
                     work.state.clone_from(&states[i]);
                     let sums = linear_stage(sub, &factors[i], work, &lin, out, None);
-                    **cache = hat.map(|hat| LinearCache {
-                        hat,
-                        out: (*out).clone(),
-                        sums,
-                        end: work.state.clone(),
-                    });
+                    match (cache.as_mut(), hat) {
+                        (Some(c), Some(hat)) => {
+                            c.hat = hat;
+                            c.out.clone_from(out);
+                            c.sums = sums;
+                            c.end.clone_from(&work.state);
+                        }
+                        (None, Some(hat)) => {
+                            **cache = Some(LinearCache {
+                                hat,
+                                out: (*out).clone(),
+                                sums,
+                                end: work.state.clone(),
+                            })
+                        }
+                        (_, None) => **cache = None,
+                    }
                     (sums, false)
                 });
                 let skipped = results.iter().filter(|r| r.1).count();

@@ -5,6 +5,7 @@
 pub mod bar1d;
 pub mod mono1d;
 
+use lopin_core::mesh::Element;
 use lopin_core::post;
 use lopin_core::scene::{self, SceneSpec};
 use lopin_core::{Settings, Solution, Solver};
@@ -43,4 +44,39 @@ pub fn rel_diff(a: &[Vec<Vec<f64>>], b: &[Vec<Vec<f64>>]) -> f64 {
         }
     }
     diff / scale
+}
+
+/// (σ_xx, mean v_x) of every element whose centre x lies in [lo, hi], at step m (1D bars).
+pub fn elements_along_x(
+    solver: &Solver,
+    sol: &Solution,
+    m: usize,
+    lo: f64,
+    hi: f64,
+) -> Vec<(f64, f64)> {
+    let fields = post::fields_at(solver, sol, m);
+    let mut out = Vec::new();
+    for (i, sub) in solver.problem().subs.iter().enumerate() {
+        let stress = post::element_stress(solver, i, &fields[i].u);
+        for (e, el) in sub.mesh.elements.iter().enumerate() {
+            let Element::Hex8(nodes) = el;
+            let xc = nodes.iter().map(|&k| sub.mesh.nodes[k][0]).sum::<f64>() / 8.0;
+            if (lo..=hi).contains(&xc) {
+                let v = nodes.iter().map(|&k| fields[i].v[3 * k]).sum::<f64>() / 8.0;
+                out.push((stress[e][0], v));
+            }
+        }
+    }
+    assert!(!out.is_empty(), "no element in [{lo}, {hi}]");
+    out
+}
+
+/// Mean σ_xx and mean v_x over the elements of [`elements_along_x`].
+pub fn plateau(solver: &Solver, sol: &Solution, m: usize, lo: f64, hi: f64) -> (f64, f64) {
+    let e = elements_along_x(solver, sol, m, lo, hi);
+    let n = e.len() as f64;
+    (
+        e.iter().map(|x| x.0).sum::<f64>() / n,
+        e.iter().map(|x| x.1).sum::<f64>() / n,
+    )
 }

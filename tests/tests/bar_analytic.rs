@@ -3,29 +3,8 @@
 //! 2 Z2 / (Z1 + Z2) times the incident one (SCENES.md). Tolerances: 0.5 % on plateau means
 //! (discretization and ramp), converged to η < 1e-6.
 
-use lopin_core::mesh::Element;
-use lopin_core::{post, scene, Solution, Solver};
-use lopin_tests::solve;
-
-/// Mean σ_xx and mean v_x over elements whose centre x lies in [lo, hi], at step m.
-fn plateau(solver: &Solver, sol: &Solution, m: usize, lo: f64, hi: f64) -> (f64, f64) {
-    let fields = post::fields_at(solver, sol, m);
-    let (mut s, mut v, mut n) = (0.0, 0.0, 0.0);
-    for (i, sub) in solver.problem().subs.iter().enumerate() {
-        let stress = post::element_stress(solver, i, &fields[i].u);
-        for (e, el) in sub.mesh.elements.iter().enumerate() {
-            let Element::Hex8(nodes) = el;
-            let xc = nodes.iter().map(|&k| sub.mesh.nodes[k][0]).sum::<f64>() / 8.0;
-            if (lo..=hi).contains(&xc) {
-                s += stress[e][0];
-                v += nodes.iter().map(|&k| fields[i].v[3 * k]).sum::<f64>() / 8.0;
-                n += 1.0;
-            }
-        }
-    }
-    assert!(n > 0.0, "no element in [{lo}, {hi}]");
-    (s / n, v / n)
-}
+use lopin_core::scene;
+use lopin_tests::{plateau, solve};
 
 fn refined(name: &str) -> scene::SceneSpec {
     let mut spec = scene::registry::builtin(name).expect("registry scene");

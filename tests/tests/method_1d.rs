@@ -6,7 +6,7 @@ use lopin_core::post;
 use lopin_core::time_function::{Ramp, TimeFunction, TimeGrid};
 use lopin_tests::bar1d::{Bar1d, Segment};
 use lopin_tests::mono1d::{self, Chain, Contact};
-use lopin_tests::solve;
+use lopin_tests::{elements_along_x, plateau, solve};
 
 const L: f64 = 1.0;
 const NEL: usize = 120;
@@ -108,18 +108,10 @@ fn case_1b_stress_plateau() {
         s.mu = 1.0;
         s.tol = 1e-10;
     });
-    let fields = post::fields_at(&solver, &sol, 90);
-    let mut values = Vec::new();
-    for (i, sub) in solver.problem().subs.iter().enumerate() {
-        let stress = post::element_stress(&solver, i, &fields[i].u);
-        for (e, s) in stress.iter().enumerate() {
-            let lopin_core::mesh::Element::Hex8(nodes) = &sub.mesh.elements[e];
-            let xc = nodes.iter().map(|&n| sub.mesh.nodes[n][0]).sum::<f64>() / 8.0;
-            if (0.1..=0.5).contains(&xc) {
-                values.push(s[0]);
-            }
-        }
-    }
+    let values: Vec<f64> = elements_along_x(&solver, &sol, 90, 0.1, 0.5)
+        .iter()
+        .map(|e| e.0)
+        .collect();
     let mean = values.iter().sum::<f64>() / values.len() as f64;
     let worst = values.iter().map(|v| (v + 1.0).abs()).fold(0.0, f64::max);
     println!(
@@ -163,24 +155,8 @@ fn case_1c_bimaterial_transmission() {
     let mono = mono1d::march(&[chain], dt, 180, Some(push_fn(&bar)), None);
     let err = compare(&bar, &bar.stations(&solver, &sol), &mono, &[0.0]);
     // stresses: incident plateau x ∈ [0.1, 0.35] at t = 0.45, transmitted x ∈ [0.55, 0.85] at t = 0.75
-    let mean_stress = |m: usize, lo: f64, hi: f64| {
-        let fields = post::fields_at(&solver, &sol, m);
-        let mut v = Vec::new();
-        for (i, sub) in solver.problem().subs.iter().enumerate() {
-            for (e, s) in post::element_stress(&solver, i, &fields[i].u)
-                .iter()
-                .enumerate()
-            {
-                let lopin_core::mesh::Element::Hex8(nodes) = &sub.mesh.elements[e];
-                let xc = nodes.iter().map(|&n| sub.mesh.nodes[n][0]).sum::<f64>() / 8.0;
-                if (lo..=hi).contains(&xc) {
-                    v.push(s[0]);
-                }
-            }
-        }
-        v.iter().sum::<f64>() / v.len() as f64
-    };
-    let ratio = mean_stress(180, 0.55, 0.85) / mean_stress(108, 0.1, 0.35);
+    let ratio =
+        plateau(&solver, &sol, 180, 0.55, 0.85).0 / plateau(&solver, &sol, 108, 0.1, 0.35).0;
     println!(
         "1c: {} iterations, error {err:.2e}, transmission {ratio:.5}",
         sol.iterations
