@@ -61,6 +61,9 @@ pub enum LopinError {
     /// A warm-start state does not have the layout of this problem.
     #[error("warm-start state does not fit this problem: {0}")]
     StateMismatch(String),
+    /// The monolithic reference cannot treat this problem, or its contact iteration failed.
+    #[error("monolithic reference: {0}")]
+    Reference(String),
     /// Reading a scene file failed.
     #[error("{path}: {reason}")]
     Io {

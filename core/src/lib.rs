@@ -15,6 +15,7 @@
 //! # Ok::<(), lopin_core::LopinError>(())
 //! ```
 
+pub mod compare;
 pub mod counters;
 pub mod detect;
 pub mod error;
@@ -25,6 +26,7 @@ pub mod linear_stage;
 pub mod local_stage;
 pub mod material;
 pub mod mesh;
+pub mod monolithic;
 mod par;
 pub mod post;
 pub mod problem;
@@ -32,6 +34,7 @@ pub mod scene;
 pub mod solver;
 pub mod sparse;
 pub mod state;
+pub mod stress;
 pub mod substructure;
 pub mod sweep;
 pub mod time_function;

@@ -352,19 +352,24 @@ pub struct Summary {
 
 /// Energy and contact summary of a solution.
 pub fn summary(solver: &Solver, sol: &Solution) -> Summary {
-    let e = energy(solver, sol);
-    let c = contact(solver, sol);
-    let n = solver.problem().time.steps;
-    Summary {
-        kinetic_end: e.kinetic[n],
-        strain_end: e.strain[n],
-        input_work: e.input_work[n],
-        max_total_over_input: e.max_total_over_input(),
-        max_slip: c.iter().map(ContactHistory::max_slip).fold(0.0, f64::max),
-        peak_normal_force: c
-            .iter()
-            .map(ContactHistory::peak_normal_force)
-            .fold(0.0, f64::max),
-        min_gap: c.iter().map(ContactHistory::min_gap).reduce(f64::min),
+    Summary::from_histories(&energy(solver, sol), &contact(solver, sol))
+}
+
+impl Summary {
+    /// The headline numbers of an energy balance and contact histories.
+    pub fn from_histories(e: &EnergyHistory, c: &[ContactHistory]) -> Self {
+        let n = e.kinetic.len() - 1;
+        Summary {
+            kinetic_end: e.kinetic[n],
+            strain_end: e.strain[n],
+            input_work: e.input_work[n],
+            max_total_over_input: e.max_total_over_input(),
+            max_slip: c.iter().map(ContactHistory::max_slip).fold(0.0, f64::max),
+            peak_normal_force: c
+                .iter()
+                .map(ContactHistory::peak_normal_force)
+                .fold(0.0, f64::max),
+            min_gap: c.iter().map(ContactHistory::min_gap).reduce(f64::min),
+        }
     }
 }

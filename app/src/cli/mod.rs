@@ -1,11 +1,17 @@
 //! Command-line definitions (clap) and dispatch to one module per subcommand.
 
+mod accuracy;
+mod accuracy_plot;
+mod bar_exact;
 mod bench;
+mod compare;
 mod plot;
+mod reference;
 mod report;
 mod run;
 mod scenes;
 mod setup;
+mod stress;
 mod sweep;
 mod sweep_store;
 
@@ -23,6 +29,14 @@ pub struct Cli {
 enum Command {
     /// Solve a scene (built-in name or .toml file) and print a summary.
     Run(run::RunArgs),
+    /// Solve a scene with the monolithic reference (no decomposition).
+    Reference(reference::ReferenceArgs),
+    /// Solve with LATIN and with the reference, and print their relative differences.
+    Compare(compare::CompareArgs),
+    /// Run time against error: LATIN at tolerances 1e-1 … 1e-8 against the reference (CSV, PNG).
+    Accuracy(accuracy::AccuracyArgs),
+    /// Numerical stability stress suite (adverse settings on small scenes).
+    Stress(stress::StressArgs),
     /// Parametric study with warm starts (multiresolution), resumable.
     Sweep(sweep::SweepArgs),
     /// Time setup, iterations and triangular solves on `two-blocks` (refine 1 and 2).
@@ -40,6 +54,10 @@ enum Command {
 pub fn dispatch(cli: Cli) -> anyhow::Result<std::process::ExitCode> {
     match cli.command {
         Some(Command::Run(args)) => run::run(&args),
+        Some(Command::Reference(args)) => reference::reference(&args),
+        Some(Command::Compare(args)) => compare::compare_cmd(&args),
+        Some(Command::Accuracy(args)) => accuracy::accuracy(&args),
+        Some(Command::Stress(args)) => stress::stress(&args),
         Some(Command::Sweep(args)) => sweep::sweep(&args),
         Some(Command::Bench(args)) => bench::bench(&args),
         Some(Command::Scenes) => scenes::list(),

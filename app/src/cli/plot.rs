@@ -12,12 +12,12 @@ use super::sweep_store::ValueRecord;
 
 static FONT: &[u8] = include_bytes!("../../../assets/fonts/DejaVuSans.ttf");
 
-fn fonts() {
+pub(super) fn fonts() {
     // registering twice is harmless; the error type carries no information we can act on
     let _ = register_font("sans-serif", FontStyle::Normal, FONT);
 }
 
-fn err<E: std::fmt::Debug>(e: E) -> anyhow::Error {
+pub(super) fn err<E: std::fmt::Debug>(e: E) -> anyhow::Error {
     anyhow!("plotting: {e:?}")
 }
 

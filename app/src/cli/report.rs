@@ -54,17 +54,8 @@ impl<'a> RunReport<'a> {
             "converged": self.solution.converged,
             "wall_s": self.wall_s,
             "stages_s": { "setup": st.setup, "local": st.local, "linear": st.linear, "post": st.post },
-            "energy": {
-                "kinetic_end": s.kinetic_end,
-                "strain_end": s.strain_end,
-                "input_work": s.input_work,
-                "max_total_over_input": s.max_total_over_input,
-            },
-            "contact": {
-                "max_slip": s.max_slip,
-                "peak_normal_force": s.peak_normal_force,
-                "min_gap": s.min_gap,
-            },
+            "energy": energy_json(s),
+            "contact": contact_json(s),
         })
     }
 
@@ -72,10 +63,9 @@ impl<'a> RunReport<'a> {
         let p = self.solver.problem();
         let set = self.solver.settings();
         let st = self.solver.counters().stage_times();
-        let s = self.summary;
         let sol = self.solution;
         let mut out = String::new();
-        let mut row = |k: &str, v: String| out.push_str(&format!("  {k:<26} {v}\n"));
+        let mut row = |k: &str, v: String| out.push_str(&row(k, v));
         row("scene", self.spec.name.clone());
         row("substructures", p.subs.len().to_string());
         row(
@@ -114,21 +104,58 @@ impl<'a> RunReport<'a> {
         row("time linear stage", format!("{:.3} s", st.linear));
         row("time post", format!("{:.3} s", st.post));
         row("wall time", format!("{:.3} s", self.wall_s));
-        row("kinetic energy (end)", format!("{:.4e} J", s.kinetic_end));
-        row("strain energy (end)", format!("{:.4e} J", s.strain_end));
-        row("input work", format!("{:.4e} J", s.input_work));
-        row(
-            "max E/(E0 + input)",
-            format!("{:.6}", s.max_total_over_input),
-        );
-        if let Some(g) = s.min_gap {
-            row(
-                "contact: peak normal force",
-                format!("{:.4e} N", s.peak_normal_force),
-            );
-            row("contact: max slip", format!("{:.4e} m", s.max_slip));
-            row("contact: min gap", format!("{g:.4e} m"));
-        }
+        out.push_str(&summary_rows(self.summary));
         out
     }
+}
+
+/// The "energy" object of a report.
+pub fn energy_json(s: &Summary) -> Value {
+    json!({
+        "kinetic_end": s.kinetic_end,
+        "strain_end": s.strain_end,
+        "input_work": s.input_work,
+        "max_total_over_input": s.max_total_over_input,
+    })
+}
+
+/// The "contact" object of a report.
+pub fn contact_json(s: &Summary) -> Value {
+    json!({
+        "max_slip": s.max_slip,
+        "peak_normal_force": s.peak_normal_force,
+        "min_gap": s.min_gap,
+    })
+}
+
+/// One table row.
+pub fn row(k: &str, v: String) -> String {
+    format!("  {k:<26} {v}\n")
+}
+
+/// The energy and contact rows of a summary table.
+pub fn summary_rows(s: &Summary) -> String {
+    let mut out = String::new();
+    out.push_str(&row(
+        "kinetic energy (end)",
+        format!("{:.4e} J", s.kinetic_end),
+    ));
+    out.push_str(&row(
+        "strain energy (end)",
+        format!("{:.4e} J", s.strain_end),
+    ));
+    out.push_str(&row("input work", format!("{:.4e} J", s.input_work)));
+    out.push_str(&row(
+        "max E/(E0 + input)",
+        format!("{:.6}", s.max_total_over_input),
+    ));
+    if let Some(g) = s.min_gap {
+        out.push_str(&row(
+            "contact: peak normal force",
+            format!("{:.4e} N", s.peak_normal_force),
+        ));
+        out.push_str(&row("contact: max slip", format!("{:.4e} m", s.max_slip)));
+        out.push_str(&row("contact: min gap", format!("{g:.4e} m")));
+    }
+    out
 }

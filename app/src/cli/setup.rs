@@ -4,7 +4,7 @@
 use anyhow::Context;
 use clap::Args;
 use lopin_core::counters::Instant;
-use lopin_core::{scene, Settings, Solver};
+use lopin_core::{scene, Problem, Settings, Solver};
 
 /// Options shared by the commands that solve a scene.
 #[derive(Debug, Clone, Args)]
@@ -43,8 +43,17 @@ pub struct Prepared {
     pub solver: Solver,
 }
 
-/// Loads, builds and factorizes.
-pub fn prepare(args: &SceneArgs) -> anyhow::Result<Prepared> {
+/// A built problem, its resolved scene and the LATIN settings the options ask for.
+pub struct Built {
+    pub spec: scene::SceneSpec,
+    pub problem: Problem,
+    pub settings: Settings,
+    /// Seconds spent loading and building.
+    pub build_s: f64,
+}
+
+/// Loads and builds the problem and resolves the settings (no factorization).
+pub fn build(args: &SceneArgs) -> anyhow::Result<Built> {
     let start = Instant::now();
     let mut spec = scene::load(&args.scene)?;
     anyhow::ensure!(args.refine >= 1, "--refine must be at least 1");
@@ -80,8 +89,21 @@ pub fn prepare(args: &SceneArgs) -> anyhow::Result<Prepared> {
     if let Some(v) = args.max_iter {
         settings.max_iter = v;
     }
-    let build_s = start.elapsed().as_secs_f64();
-    let mut solver = Solver::new(problem, settings).context("setting up the solver")?;
-    solver.add_setup_time(build_s);
-    Ok(Prepared { spec, solver })
+    Ok(Built {
+        spec,
+        problem,
+        settings,
+        build_s: start.elapsed().as_secs_f64(),
+    })
+}
+
+/// Loads, builds and factorizes.
+pub fn prepare(args: &SceneArgs) -> anyhow::Result<Prepared> {
+    let built = build(args)?;
+    let mut solver = Solver::new(built.problem, built.settings).context("setting up the solver")?;
+    solver.add_setup_time(built.build_s);
+    Ok(Prepared {
+        spec: built.spec,
+        solver,
+    })
 }

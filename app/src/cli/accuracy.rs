@@ -1,0 +1,242 @@
+//! `lopin accuracy`: run time against error. LATIN (whole interval, and incremental with
+//! window 1) at tolerances 1e-1 … 1e-8, each result compared with the monolithic reference
+//! (max relative nodal-velocity difference over space–time) and, for the `bar` scene, with the
+//! exact solution (relative space–time L2 error: the discretization floor). Writes
+//! accuracy.csv and accuracy.png (log–log error against wall time, one curve per method, the
+//! reference's own time as a vertical line).
+//!
+//! Timing: the whole-interval solves form one chain — each tolerance continues from the state of
+//! the previous one, so the time of a row is the time of one solve stopped at that tolerance
+//! (setup included). Incremental solves are cold, one per tolerance (a continued incremental
+//! solve would redo every window).
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use anyhow::Context;
+use clap::Args;
+use lopin_core::compare::compare;
+use lopin_core::counters::Instant;
+use lopin_core::monolithic::Monolithic;
+use lopin_core::{Settings, Solution, Solver};
+
+use super::accuracy_plot;
+use super::bar_exact::{l2_error, BarExact};
+use super::setup::{build, SceneArgs};
+
+#[derive(Debug, Args)]
+pub struct AccuracyArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Tolerances on η, loosest first.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "1e-1,1e-2,1e-3,1e-4,1e-5,1e-6,1e-7,1e-8"
+    )]
+    pub tols: Vec<f64>,
+    /// Skip the incremental (window 1) variant.
+    #[arg(long)]
+    pub no_incremental: bool,
+    /// Output directory (default out/accuracy-SCENE-rREFINE).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+}
+
+/// One point of the study.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Point {
+    pub method: &'static str,
+    pub tol: Option<f64>,
+    pub iterations: usize,
+    pub eta: f64,
+    pub time_s: f64,
+    pub error_reference: f64,
+    pub error_exact: Option<f64>,
+}
+
+pub fn accuracy(args: &AccuracyArgs) -> anyhow::Result<ExitCode> {
+    anyhow::ensure!(
+        args.scene.tol.is_none() && args.scene.window.is_none(),
+        "lopin accuracy sets the tolerance and the window itself: remove --tol / --window"
+    );
+    anyhow::ensure!(!args.tols.is_empty(), "--tols: give at least one tolerance");
+    for &t in &args.tols {
+        anyhow::ensure!(
+            t > 0.0 && t < 1.0,
+            "--tols: every tolerance must lie in (0, 1), got {t}"
+        );
+    }
+    let mut tols = args.tols.clone();
+    tols.sort_by(|a, b| b.total_cmp(a));
+    tols.dedup();
+    let built = build(&args.scene)?;
+    let out = args.out.clone().unwrap_or_else(|| {
+        PathBuf::from(format!(
+            "out/accuracy-{}-r{}",
+            built.spec.name, args.scene.refine
+        ))
+    });
+    std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
+    let exact = BarExact::for_problem(&built.problem);
+
+    // the reference
+    let clock = Instant::now();
+    let reference = Monolithic::new(built.problem.clone())?;
+    let mono = reference.solve()?;
+    let reference_s = built.build_s + clock.elapsed().as_secs_f64();
+    let p = reference.problem();
+    let mut points = vec![Point {
+        method: "reference",
+        tol: None,
+        iterations: mono.sweeps,
+        eta: mono.contact_change,
+        time_s: reference_s,
+        error_reference: 0.0,
+        error_exact: exact
+            .as_ref()
+            .map(|e| l2_error(p, e, &mut |s, m| reference.sub_velocity(&mono, m, s))),
+    }];
+    eprintln!("reference: {reference_s:.3} s");
+
+    let error_exact = |solver: &Solver, sol: &Solution| -> Option<f64> {
+        let e = exact.as_ref()?;
+        let hist = velocity_history(solver, sol);
+        Some(l2_error(solver.problem(), e, &mut |s, m| {
+            hist[m][s].clone()
+        }))
+    };
+
+    // whole interval: one chain of solves
+    let clock = Instant::now();
+    let mut solver = Solver::new(built.problem.clone(), built.settings)?;
+    let mut elapsed = built.build_s + clock.elapsed().as_secs_f64();
+    let mut state = None;
+    let mut iterations = 0;
+    for &tol in &tols {
+        let settings = Settings {
+            tol,
+            max_iter: 100_000,
+            ..built.settings
+        };
+        solver.set_settings(settings)?;
+        let clock = Instant::now();
+        let sol = solver.solve(state.as_ref())?;
+        elapsed += clock.elapsed().as_secs_f64();
+        iterations += sol.iterations;
+        let c = compare(&solver, &sol, &reference, &mono);
+        let point = Point {
+            method: "latin",
+            tol: Some(tol),
+            iterations,
+            eta: sol.eta,
+            time_s: elapsed,
+            error_reference: c.rel_diff_velocity,
+            error_exact: error_exact(&solver, &sol),
+        };
+        eprintln!(
+            "latin tol {tol:.0e}: {iterations} iterations, {elapsed:.3} s, error {:.3e}",
+            point.error_reference
+        );
+        points.push(point);
+        state = Some(sol.state);
+    }
+
+    // incremental: cold per tolerance
+    if !args.no_incremental {
+        for &tol in &tols {
+            let clock = Instant::now();
+            let settings = Settings {
+                tol,
+                window: Some(1),
+                max_iter: 100_000,
+                ..built.settings
+            };
+            let mut solver = Solver::new(built.problem.clone(), settings)?;
+            let sol = solver.solve(None)?;
+            let time_s = built.build_s + clock.elapsed().as_secs_f64();
+            let c = compare(&solver, &sol, &reference, &mono);
+            let point = Point {
+                method: "latin-incremental",
+                tol: Some(tol),
+                iterations: sol.iterations,
+                eta: sol.eta,
+                time_s,
+                error_reference: c.rel_diff_velocity,
+                error_exact: error_exact(&solver, &sol),
+            };
+            eprintln!(
+                "incremental tol {tol:.0e}: {} iterations, {time_s:.3} s, error {:.3e}",
+                sol.iterations, point.error_reference
+            );
+            points.push(point);
+        }
+    }
+
+    let csv = out.join("accuracy.csv");
+    std::fs::write(&csv, to_csv(&built.spec.name, args.scene.refine, &points))
+        .with_context(|| format!("writing {}", csv.display()))?;
+    let png = out.join("accuracy.png");
+    let title = format!(
+        "{} (refine {}, {} dofs)",
+        built.spec.name,
+        args.scene.refine,
+        p.dof_count()
+    );
+    accuracy_plot::plot(&png, &title, &points)?;
+    print!("{}", table(&points));
+    println!("wrote {} and {}", csv.display(), png.display());
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Nodal velocities `[m][sub]` of a converged LATIN solution.
+fn velocity_history(solver: &Solver, sol: &Solution) -> Vec<Vec<Vec<f64>>> {
+    let p = solver.problem();
+    let n = p.time.steps;
+    let mut out = vec![vec![Vec::new(); p.subs.len()]; n + 1];
+    for i in 0..p.subs.len() {
+        lopin_core::post::replay(solver, sol, i, n, &mut |m, st, _, _| {
+            out[m][i].clone_from(&st.v)
+        });
+    }
+    out
+}
+
+fn to_csv(scene: &str, refine: usize, points: &[Point]) -> String {
+    let mut s =
+        String::from("scene,refine,method,tol,iterations,eta,time_s,error_reference,error_exact\n");
+    for p in points {
+        s.push_str(&format!(
+            "{scene},{refine},{},{},{},{:e},{:.6},{:e},{}\n",
+            p.method,
+            p.tol.map_or(String::new(), |t| format!("{t:e}")),
+            p.iterations,
+            p.eta,
+            p.time_s,
+            p.error_reference,
+            p.error_exact.map_or(String::new(), |e| format!("{e:e}")),
+        ));
+    }
+    s
+}
+
+fn table(points: &[Point]) -> String {
+    let mut s = format!(
+        "{:<18} {:>8} {:>10} {:>10} {:>10} {:>12} {:>12}\n",
+        "method", "tol", "iterations", "eta", "time_s", "err_ref", "err_exact"
+    );
+    for p in points {
+        s.push_str(&format!(
+            "{:<18} {:>8} {:>10} {:>10.2e} {:>10.3} {:>12.3e} {:>12}\n",
+            p.method,
+            p.tol.map_or("-".to_string(), |t| format!("{t:.0e}")),
+            p.iterations,
+            p.eta,
+            p.time_s,
+            p.error_reference,
+            p.error_exact
+                .map_or("-".to_string(), |e| format!("{e:.3e}")),
+        ));
+    }
+    s
+}

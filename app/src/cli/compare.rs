@@ -1,0 +1,83 @@
+//! `lopin compare`: LATIN and the monolithic reference on the same scene and options, and the
+//! relative differences of nodal velocities and step-averaged interface forces (core `compare`).
+
+use std::process::ExitCode;
+
+use clap::Args;
+use lopin_core::compare::compare;
+use lopin_core::counters::Instant;
+use lopin_core::post;
+use serde_json::json;
+
+use super::reference::ReferenceRun;
+use super::report::{row, RunReport};
+use super::setup::{prepare, SceneArgs};
+
+/// Options of `lopin compare`.
+#[derive(Debug, Args)]
+pub struct CompareArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Print one JSON object on stdout instead of the table.
+    #[arg(long)]
+    pub json: bool,
+}
+
+pub fn compare_cmd(args: &CompareArgs) -> anyhow::Result<ExitCode> {
+    let start = Instant::now();
+    let mut prepared = prepare(&args.scene)?;
+    let solver = &mut prepared.solver;
+    let solution = solver.solve(None)?;
+    let latin_s = start.elapsed().as_secs_f64();
+    let summary = post::summary(solver, &solution);
+    let latin = RunReport::new(&prepared.spec, solver, &solution, &summary, latin_s);
+    let reference = ReferenceRun::new(&args.scene)?;
+    let c = compare(solver, &solution, &reference.reference, &reference.solution);
+    if args.json {
+        let out = json!({
+            "scene": prepared.spec.name,
+            "rel_diff_velocity": c.rel_diff_velocity,
+            "rel_diff_force": c.rel_diff_force,
+            "max_velocity": c.max_velocity,
+            "max_force": c.max_force,
+            "latin": latin.to_json(),
+            "reference": reference.to_json(),
+        });
+        println!("{}", serde_json::to_string_pretty(&out)?);
+    } else {
+        print!(
+            "{}{}{}{}",
+            row(
+                "LATIN",
+                format!(
+                    "{} iterations, eta {:.2e}, {:.3} s",
+                    solution.iterations, solution.eta, latin_s
+                )
+            ),
+            row(
+                "reference",
+                format!(
+                    "{} contact sweeps, {:.3} s",
+                    reference.solution.sweeps,
+                    reference.time_s()
+                )
+            ),
+            row(
+                "rel_diff_velocity",
+                format!(
+                    "{:.3e} (max |v| {:.4e} m/s)",
+                    c.rel_diff_velocity, c.max_velocity
+                )
+            ),
+            row(
+                "rel_diff_force",
+                format!("{:.3e} (max |F| {:.4e} N)", c.rel_diff_force, c.max_force)
+            ),
+        );
+    }
+    Ok(if solution.converged {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
+    })
+}
