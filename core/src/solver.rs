@@ -41,6 +41,11 @@ pub struct Settings {
     /// (true, default) rather than from F = W = 0 (false, the plain METHOD §7 variant; found by
     /// the stress suite to cost 2× the iterations in incremental runs).
     pub hold_window_start: bool,
+    /// Normalize a window's η by its own energy plus the mean energy per step of the earlier
+    /// windows times the window length (true, default), rather than by the whole energy of steps
+    /// 1..m1 (false, METHOD §7): with the cumulative norm the criterion loosens as the run goes
+    /// on, and the stress suite saw a 10⁴-step impact gain 20 % energy at η < 1e-3.
+    pub per_step_window_norm: bool,
 }
 
 impl Settings {
@@ -57,6 +62,7 @@ impl Settings {
             window: spec.window,
             skip_unchanged: true,
             hold_window_start: true,
+            per_step_window_norm: true,
         }
     }
 
@@ -402,7 +408,12 @@ impl Solver {
                 sums.into_iter().for_each(|x| last.add(x));
                 eta = IndicatorSums {
                     num: last.num,
-                    den: last.den + den_prev,
+                    den: last.den
+                        + if set.per_step_window_norm && m0 > 1 {
+                            den_prev * (m1 + 1 - m0) as f64 / (m0 - 1) as f64
+                        } else {
+                            den_prev
+                        },
                 }
                 .eta();
                 // 4. relaxation (μ = 1 at the first iteration)

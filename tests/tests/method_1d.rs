@@ -297,8 +297,9 @@ fn check_counts(
         let (_, sol) = solve(&bar.spec(), |s| {
             s.mu = 1.0;
             s.window = window;
-            // METHOD's windows start from F = W = 0
+            // METHOD's windows start from F = W = 0 and normalize η cumulatively
             s.hold_window_start = false;
+            s.per_step_window_norm = false;
         });
         println!(
             "{case}: {nsub} subs: {} iterations (METHOD: {expected})",
