@@ -5,10 +5,13 @@
 pub mod bar1d;
 pub mod mono1d;
 
+use bar1d::{Bar1d, Segment};
 use lopin_core::mesh::Element;
 use lopin_core::post;
 use lopin_core::scene::{self, SceneSpec};
+use lopin_core::time_function::TimeGrid;
 use lopin_core::{Settings, Solution, Solver};
+use mono1d::{Chain, Contact};
 
 /// Builds and solves a scene, with `tweak` applied to the default settings.
 pub fn solve(spec: &SceneSpec, tweak: impl FnOnce(&mut Settings)) -> (Solver, Solution) {
@@ -78,5 +81,43 @@ pub fn plateau(solver: &Solver, sol: &Solution, m: usize, lo: f64, hi: f64) -> (
     (
         e.iter().map(|x| x.0).sum::<f64>() / n,
         e.iter().map(|x| x.1).sum::<f64>() / n,
+    )
+}
+
+/// The 1D impact of 2a: bars [0, 1] (v0 = 1) and [1.045, 2.045] at rest, 50 elements each,
+/// 2 substructures per bar, Δt = h, N = 152, f = 0.
+pub fn impact_2a() -> (Bar1d, Vec<Chain>, Contact) {
+    let h = 0.02;
+    let seg = |x0: f64, velocity: f64| Segment {
+        x0,
+        elements: 25,
+        young: 1.0,
+        density: 1.0,
+        velocity,
+    };
+    let bar = Bar1d {
+        h,
+        segments: vec![
+            seg(0.0, 1.0),
+            seg(0.5, 1.0),
+            seg(1.045, 0.0),
+            seg(1.545, 0.0),
+        ],
+        time: TimeGrid { dt: h, steps: 152 },
+        push: None,
+        contacts: vec![(1, 0.05)],
+    };
+    let chains = vec![
+        Chain::of_elements(&[(1.0, 1.0); 50], h, 1.0, 1.0),
+        Chain::of_elements(&[(1.0, 1.0); 50], h, 1.0, 0.0),
+    ];
+    (
+        bar,
+        chains,
+        Contact {
+            a: (0, 50),
+            b: (1, 0),
+            gap: 0.045,
+        },
     )
 }

@@ -5,8 +5,8 @@
 use lopin_core::post;
 use lopin_core::time_function::{Ramp, TimeFunction, TimeGrid};
 use lopin_tests::bar1d::{Bar1d, Segment};
-use lopin_tests::mono1d::{self, Chain, Contact};
-use lopin_tests::{elements_along_x, plateau, solve};
+use lopin_tests::mono1d::{self, Chain};
+use lopin_tests::{elements_along_x, impact_2a, plateau, solve};
 
 const L: f64 = 1.0;
 const NEL: usize = 120;
@@ -187,44 +187,6 @@ fn case_1d_iteration_counts_at_k_equal_z() {
     }
 }
 
-/// The 1D impact of 2a: bars [0, 1] (v0 = 1) and [1.045, 2.045] at rest, 50 elements each,
-/// 2 substructures per bar, Δt = h, N = 152, f = 0.
-fn impact() -> (Bar1d, Vec<Chain>, Contact) {
-    let h = 0.02;
-    let seg = |x0: f64, velocity: f64| Segment {
-        x0,
-        elements: 25,
-        young: 1.0,
-        density: 1.0,
-        velocity,
-    };
-    let bar = Bar1d {
-        h,
-        segments: vec![
-            seg(0.0, 1.0),
-            seg(0.5, 1.0),
-            seg(1.045, 0.0),
-            seg(1.545, 0.0),
-        ],
-        time: TimeGrid { dt: h, steps: 152 },
-        push: None,
-        contacts: vec![(1, 0.05)],
-    };
-    let chains = vec![
-        Chain::of_elements(&[(1.0, 1.0); 50], h, 1.0, 1.0),
-        Chain::of_elements(&[(1.0, 1.0); 50], h, 1.0, 0.0),
-    ];
-    (
-        bar,
-        chains,
-        Contact {
-            a: (0, 50),
-            b: (1, 0),
-            gap: 0.045,
-        },
-    )
-}
-
 /// Plain mean of the nodal velocities (the definition behind METHOD's v_A, v_B).
 fn mean_velocity(v: &[f64]) -> f64 {
     v.iter().sum::<f64>() / v.len() as f64
@@ -234,7 +196,7 @@ fn mean_velocity(v: &[f64]) -> f64 {
 /// max E/E0 = 1.000000, min gap −5.0e-3, final v_A = 0.0134, v_B = 0.9866.
 #[test]
 fn case_2a_monolithic_impact_matches_method() {
-    let (bar, chains, contact) = impact();
+    let (bar, chains, contact) = impact_2a();
     let mono = mono1d::march(&chains, bar.time.dt, bar.time.steps, None, Some(contact));
     let e0 = mono.energy[0];
     let e_end = mono.energy[bar.time.steps] / e0;
@@ -253,7 +215,7 @@ fn case_2a_monolithic_impact_matches_method() {
 /// η < 2e-9 the velocities equal the monolithic ones to ≤ 1e-6 of V0 (METHOD: 1.7e-8 at 1.7e-9).
 #[test]
 fn case_2c_latin_impact_equals_monolithic() {
-    let (bar, chains, contact) = impact();
+    let (bar, chains, contact) = impact_2a();
     let (_, coarse) = solve(&bar.spec(), |s| s.mu = 0.8);
     println!("2c: {} iterations to 1e-3 (METHOD: 137)", coarse.iterations);
     assert!(coarse.converged);

@@ -79,38 +79,9 @@ fn a_loose_latin_solve_is_detected() {
 /// the independent 1D monolithic solver step by step: energy, gap, final velocities.
 #[test]
 fn reference_reproduces_the_1d_impact() {
-    use lopin_core::time_function::TimeGrid;
-    use lopin_tests::bar1d::{Bar1d, Segment};
-    use lopin_tests::mono1d::{self, Chain, Contact};
-    let h = 0.02;
-    let seg = |x0: f64, velocity: f64| Segment {
-        x0,
-        elements: 25,
-        young: 1.0,
-        density: 1.0,
-        velocity,
-    };
-    let bar = Bar1d {
-        h,
-        segments: vec![
-            seg(0.0, 1.0),
-            seg(0.5, 1.0),
-            seg(1.045, 0.0),
-            seg(1.545, 0.0),
-        ],
-        time: TimeGrid { dt: h, steps: 152 },
-        push: None,
-        contacts: vec![(1, 0.05)],
-    };
-    let chains = vec![
-        Chain::of_elements(&[(1.0, 1.0); 50], h, 1.0, 1.0),
-        Chain::of_elements(&[(1.0, 1.0); 50], h, 1.0, 0.0),
-    ];
-    let contact = Contact {
-        a: (0, 50),
-        b: (1, 0),
-        gap: 0.045,
-    };
+    use lopin_tests::mono1d;
+    let (bar, chains, contact) = lopin_tests::impact_2a();
+    let h = bar.h;
     let one_d = mono1d::march(&chains, h, 152, None, Some(contact));
     let problem = scene::build::build(&bar.spec(), "impact").expect("scene builds");
     let reference = Monolithic::new(problem).expect("reference");
