@@ -42,6 +42,19 @@ pub fn replay(
     linear_stage(sub, factor, &mut work, &input, &mut out, Some(visit));
 }
 
+/// Nodal velocities of every substructure at every step of a converged solution: `[m][sub][dof]`.
+pub fn velocity_history(solver: &Solver, sol: &Solution) -> Vec<Vec<Vec<f64>>> {
+    let p = solver.problem();
+    let n = p.time.steps;
+    let mut out = vec![vec![Vec::new(); p.subs.len()]; n + 1];
+    for i in 0..p.subs.len() {
+        replay(solver, sol, i, n, &mut |m, st, _, _| {
+            out[m][i].clone_from(&st.v)
+        });
+    }
+    out
+}
+
 /// Displacement and velocity of one substructure at one step.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SubFields {

@@ -23,18 +23,7 @@ pub fn solve(spec: &SceneSpec, tweak: impl FnOnce(&mut Settings)) -> (Solver, So
     (solver, sol)
 }
 
-/// Nodal velocities of every substructure at every step: `[m][sub][dof]`.
-pub fn velocity_history(solver: &Solver, sol: &Solution) -> Vec<Vec<Vec<f64>>> {
-    let p = solver.problem();
-    let n = p.time.steps;
-    let mut out = vec![vec![Vec::new(); p.subs.len()]; n + 1];
-    for i in 0..p.subs.len() {
-        post::replay(solver, sol, i, n, &mut |m, st, _, _| {
-            out[m][i] = st.v.clone()
-        });
-    }
-    out
-}
+pub use lopin_core::post::velocity_history;
 
 /// max over space-time of |a − b| / max |b| for two velocity histories of the same problem.
 pub fn rel_diff(a: &[Vec<Vec<f64>>], b: &[Vec<Vec<f64>>]) -> f64 {

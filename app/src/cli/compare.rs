@@ -3,15 +3,16 @@
 
 use std::process::ExitCode;
 
+use anyhow::Context;
 use clap::Args;
 use lopin_core::compare::compare;
 use lopin_core::counters::Instant;
-use lopin_core::post;
+use lopin_core::{post, Solver};
 use serde_json::json;
 
 use super::reference::ReferenceRun;
 use super::report::{row, RunReport};
-use super::setup::{prepare, SceneArgs};
+use super::setup::{build, SceneArgs};
 
 /// Options of `lopin compare`.
 #[derive(Debug, Args)]
@@ -24,18 +25,25 @@ pub struct CompareArgs {
 }
 
 pub fn compare_cmd(args: &CompareArgs) -> anyhow::Result<ExitCode> {
+    let built = build(&args.scene)?;
     let start = Instant::now();
-    let mut prepared = prepare(&args.scene)?;
-    let solver = &mut prepared.solver;
+    let mut solver =
+        Solver::new(built.problem.clone(), built.settings).context("setting up the solver")?;
+    solver.add_setup_time(built.build_s);
     let solution = solver.solve(None)?;
-    let latin_s = start.elapsed().as_secs_f64();
-    let summary = post::summary(solver, &solution);
-    let latin = RunReport::new(&prepared.spec, solver, &solution, &summary, latin_s);
-    let reference = ReferenceRun::new(&args.scene)?;
-    let c = compare(solver, &solution, &reference.reference, &reference.solution);
+    let latin_s = built.build_s + start.elapsed().as_secs_f64();
+    let summary = post::summary(&solver, &solution);
+    let latin = RunReport::new(&built.spec, &solver, &solution, &summary, latin_s);
+    let reference = ReferenceRun::solve(built.spec.name.clone(), built.problem, built.build_s)?;
+    let c = compare(
+        &solver,
+        &solution,
+        &reference.reference,
+        &reference.solution,
+    );
     if args.json {
         let out = json!({
-            "scene": prepared.spec.name,
+            "scene": built.spec.name,
             "rel_diff_velocity": c.rel_diff_velocity,
             "rel_diff_force": c.rel_diff_force,
             "max_velocity": c.max_velocity,

@@ -7,6 +7,7 @@ use clap::Args;
 use lopin_core::counters::Instant;
 use lopin_core::monolithic::{MonoSolution, Monolithic};
 use lopin_core::post::Summary;
+use lopin_core::Problem;
 use serde_json::{json, Value};
 
 use super::report::{contact_json, energy_json, row, summary_rows};
@@ -40,15 +41,20 @@ impl ReferenceRun {
     /// Builds and solves.
     pub fn new(args: &SceneArgs) -> anyhow::Result<Self> {
         let built = build(args)?;
-        let reference = Monolithic::new(built.problem)?;
+        Self::solve(built.spec.name, built.problem, built.build_s)
+    }
+
+    /// Solves a built problem (`build_s`: the seconds it took to build).
+    pub fn solve(scene: String, problem: Problem, build_s: f64) -> anyhow::Result<Self> {
+        let reference = Monolithic::new(problem)?;
         let clock = Instant::now();
         let solution = reference.solve()?;
         let solve_s = clock.elapsed().as_secs_f64();
         let clock = Instant::now();
         let summary = reference.summary(&solution);
         Ok(Self {
-            scene: built.spec.name,
-            setup_s: built.build_s + reference.setup_s(),
+            scene,
+            setup_s: build_s + reference.setup_s(),
             reference,
             solution,
             summary,

@@ -72,40 +72,34 @@ pub fn stress(args: &StressArgs) -> anyhow::Result<ExitCode> {
     })
 }
 
+/// Column widths of the text table (the last column, the verdict, is not padded).
+const WIDTHS: [usize; 9] = [46, 6, 6, 6, 9, 12, 12, 19, 7];
+
 fn format_row(o: &StressOutcome, markdown: bool) -> String {
-    let gap = o.min_gap.map_or("-".to_string(), |g| {
-        format!("{g:.2e} / -{:.1e}", o.penetration_bound)
-    });
-    let reference = o
-        .reference_energy_ratio
-        .map_or("-".to_string(), |r| format!("{r:.9}"));
+    let cells = [
+        o.name.clone(),
+        o.dofs.to_string(),
+        o.steps.to_string(),
+        o.iterations.to_string(),
+        format!("{:.1e}", o.eta),
+        format!("{:.9}", o.max_energy_ratio),
+        o.reference_energy_ratio
+            .map_or("-".to_string(), |r| format!("{r:.9}")),
+        o.min_gap.map_or("-".to_string(), |g| {
+            format!("{g:.2e} / -{:.1e}", o.penetration_bound)
+        }),
+        format!("{:.2}", o.wall_s),
+        o.verdict.clone(),
+    ];
     if markdown {
-        format!(
-            "| {} | {} | {} | {} | {:.1e} | {:.9} | {} | {} | {:.2} | {} |",
-            o.name,
-            o.dofs,
-            o.steps,
-            o.iterations,
-            o.eta,
-            o.max_energy_ratio,
-            reference,
-            gap,
-            o.wall_s,
-            o.verdict
-        )
+        format!("| {} |", cells.join(" | "))
     } else {
-        format!(
-            "{:<46} {:>6} {:>6} {:>6} {:>9.2e} {:>12.9} {:>12} {:>19} {:>7.2}  {}",
-            o.name,
-            o.dofs,
-            o.steps,
-            o.iterations,
-            o.eta,
-            o.max_energy_ratio,
-            reference,
-            gap,
-            o.wall_s,
-            o.verdict
-        )
+        let mut line = format!("{:<w$}", cells[0], w = WIDTHS[0]);
+        for (cell, w) in cells[1..9].iter().zip(&WIDTHS[1..]) {
+            line.push_str(&format!(" {cell:>w$}"));
+        }
+        line.push_str("  ");
+        line.push_str(&cells[9]);
+        line
     }
 }

@@ -108,11 +108,7 @@ pub fn coulomb_disc(d: [[f64; 2]; 2], q: [f64; 2], r: f64) -> [f64; 2] {
     if r <= 0.0 {
         return [0.0, 0.0];
     }
-    let solve = |lam: f64| -> [f64; 2] {
-        let (a, b, c) = (d[0][0] + lam, d[0][1], d[1][1] + lam);
-        let det = a * c - b * b;
-        [(c * q[0] - b * q[1]) / det, (a * q[1] - b * q[0]) / det]
-    };
+    let solve = |lam: f64| shifted_solve(d, lam, q);
     let len = |t: [f64; 2]| t[0].hypot(t[1]);
     let stick = solve(0.0);
     if len(stick) <= r {
@@ -132,7 +128,7 @@ pub fn coulomb_disc(d: [[f64; 2]; 2], q: [f64; 2], r: f64) -> [f64; 2] {
             hi = lam;
         }
         // dφ/dλ = (Tᵀ (D + λI)⁻¹ T) / |T|³
-        let s = solve_with(d, lam, t);
+        let s = shifted_solve(d, lam, t);
         let dphi = (t[0] * s[0] + t[1] * s[1]) / (l * l * l);
         let mut next = lam - phi / dphi;
         if !(next > lo && next < hi) {
@@ -150,7 +146,8 @@ pub fn coulomb_disc(d: [[f64; 2]; 2], q: [f64; 2], r: f64) -> [f64; 2] {
     [t[0] * r / l, t[1] * r / l]
 }
 
-fn solve_with(d: [[f64; 2]; 2], lam: f64, q: [f64; 2]) -> [f64; 2] {
+/// (D + λI)⁻¹ q for a symmetric 2×2 D.
+fn shifted_solve(d: [[f64; 2]; 2], lam: f64, q: [f64; 2]) -> [f64; 2] {
     let (a, b, c) = (d[0][0] + lam, d[0][1], d[1][1] + lam);
     let det = a * c - b * b;
     [(c * q[0] - b * q[1]) / det, (a * q[1] - b * q[0]) / det]

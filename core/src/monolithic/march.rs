@@ -97,6 +97,7 @@ pub fn march(
     let mut rhs = vec![0.0; asm.free];
     let mut v_new = vec![0.0; n];
     let any_prescribed = asm.free < n;
+    let mut kp = vec![0.0; if any_prescribed { n } else { 0 }];
 
     for m in 1..=steps {
         let clock = Instant::now();
@@ -109,9 +110,7 @@ pub fn march(
         for g in 0..n {
             v_new[g] = asm.prescribed[g].map_or(0.0, |f| f.value(t));
         }
-        let mut kp = vec![0.0; 0];
         if any_prescribed {
-            kp = vec![0.0; n];
             asm.stiffness.mul_into(&v_new, &mut kp);
         }
         for g in 0..n {

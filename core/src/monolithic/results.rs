@@ -45,7 +45,7 @@ impl Monolithic {
                 })
                 .collect();
             for (p, pair) in asm.pairs.iter().enumerate() {
-                let f1 = self.side1_force(pair.frame, sol.pair_forces[m][p]);
+                let f1 = side1_force(pair.frame, sol.pair_forces[m][p]);
                 for c in 0..3 {
                     if boundary[3 * pair.a + c] {
                         b[3 * pair.a + c] -= f1[c];
@@ -66,11 +66,6 @@ impl Monolithic {
             prev_b = b;
         }
         e
-    }
-
-    /// Nodal force on side 1 of a pair in global axes: −P n + T₁ t₁ + T₂ t₂.
-    fn side1_force(&self, frame: [Vec3; 3], f: [f64; 3]) -> Vec3 {
-        std::array::from_fn(|c| -f[0] * frame[0][c] + f[1] * frame[1][c] + f[2] * frame[2][c])
     }
 
     /// Contact histories of every contact interface (the force of a pair is shared among its
@@ -154,4 +149,9 @@ impl Monolithic {
 
 fn dot_slices(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+/// Nodal force on side 1 of a pair in global axes: −P n + T₁ t₁ + T₂ t₂.
+fn side1_force(frame: [Vec3; 3], f: [f64; 3]) -> Vec3 {
+    std::array::from_fn(|c| -f[0] * frame[0][c] + f[1] * frame[1][c] + f[2] * frame[2][c])
 }
