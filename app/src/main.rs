@@ -1,5 +1,5 @@
-//! `lopin`: the command line of Lopin (headless runs, benchmarks, scene files). The desktop
-//! explorer will open when `lopin` is run without arguments.
+//! `lopin`: the desktop explorer (`lopin` alone, or `lopin view SCENE`) and the command line of
+//! Lopin (headless runs, sweeps, benchmarks, scene files).
 
 mod cli;
 

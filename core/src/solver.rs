@@ -105,6 +105,37 @@ pub enum Control {
     Stop,
 }
 
+/// What an observer sees after each iteration: the record, and the current iterate.
+#[derive(Debug, Clone, Copy)]
+pub struct Iterate<'a> {
+    /// η, window and stage times of this iteration.
+    pub record: &'a IterationRecord,
+    /// The solver (problem, factorizations, settings) for post-processing the iterate.
+    pub solver: &'a Solver,
+    /// s = (F, W) after this iteration's relaxation.
+    pub state: &'a InterfaceState,
+    /// ŝ of every interface side after this iteration's local stage.
+    pub hats: &'a [Vec<TraceHistory>],
+    /// η after each iteration of this solve so far.
+    pub eta_history: &'a [f64],
+}
+
+impl Iterate<'_> {
+    /// A copy of the iterate as a (not converged) [`Solution`], so that the post-processing of
+    /// [`crate::post`] can replay fields from it.
+    pub fn snapshot(&self) -> Solution {
+        Solution {
+            state: self.state.clone(),
+            hats: self.hats.to_vec(),
+            iterations: self.record.iteration,
+            eta: self.record.eta,
+            eta_history: self.eta_history.to_vec(),
+            converged: false,
+            cancelled: false,
+        }
+    }
+}
+
 /// The result of a solve.
 #[derive(Debug, Clone)]
 pub struct Solution {
@@ -266,6 +297,16 @@ impl Solver {
         &mut self,
         start: Option<&InterfaceState>,
         observer: &mut dyn FnMut(&IterationRecord) -> Control,
+    ) -> Result<Solution> {
+        self.solve_observed(start, &mut |it| observer(it.record))
+    }
+
+    /// Solves, showing `observer` the current iterate after every iteration (a live view
+    /// replays fields from it with [`Iterate::snapshot`]).
+    pub fn solve_observed(
+        &mut self,
+        start: Option<&InterfaceState>,
+        observer: &mut dyn FnMut(&Iterate<'_>) -> Control,
     ) -> Result<Solution> {
         let p = &self.problem;
         let set = self.settings;
@@ -431,7 +472,14 @@ impl Solver {
                     skipped,
                 };
                 self.counters.iterations.push(record);
-                if observer(&record) == Control::Stop {
+                let iterate = Iterate {
+                    record: &record,
+                    solver: self,
+                    state: &s,
+                    hats: &hats,
+                    eta_history: &eta_history,
+                };
+                if observer(&iterate) == Control::Stop {
                     cancelled = true;
                     break false;
                 }

@@ -14,6 +14,7 @@ mod setup;
 mod stress;
 mod sweep;
 mod sweep_store;
+mod view;
 
 use clap::{Parser, Subcommand};
 
@@ -27,6 +28,9 @@ pub struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Command {
+    /// Open the explorer on a scene (built-in name or .toml file); `lopin` alone opens it on
+    /// two-blocks.
+    View(view::ViewArgs),
     /// Solve a scene (built-in name or .toml file) and print a summary.
     Run(run::RunArgs),
     /// Solve a scene with the monolithic reference (no decomposition).
@@ -53,6 +57,7 @@ enum Command {
 /// Runs the chosen subcommand.
 pub fn dispatch(cli: Cli) -> anyhow::Result<std::process::ExitCode> {
     match cli.command {
+        Some(Command::View(args)) => view::view(&args),
         Some(Command::Run(args)) => run::run(&args),
         Some(Command::Reference(args)) => reference::reference(&args),
         Some(Command::Compare(args)) => compare::compare_cmd(&args),
@@ -62,11 +67,6 @@ pub fn dispatch(cli: Cli) -> anyhow::Result<std::process::ExitCode> {
         Some(Command::Bench(args)) => bench::bench(&args),
         Some(Command::Scenes) => scenes::list(),
         Some(Command::ExportScene { name }) => scenes::export(&name),
-        None => {
-            use clap::CommandFactory;
-            Cli::command().print_help()?;
-            println!();
-            Ok(std::process::ExitCode::SUCCESS)
-        }
+        None => view::view(&view::ViewArgs::default()),
     }
 }

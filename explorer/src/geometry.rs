@@ -1,0 +1,127 @@
+//! The scene's fixed geometry, extracted once per scene: each substructure's boundary faces
+//! (the only faces ever drawn), elements (for sections), centroid, and which of its nodes sit on
+//! a contact interface (METHOD §1: conforming node-to-node interfaces), so that contact
+//! quantities can be painted on the faces that carry them.
+
+use glam::Vec3;
+use lopin_core::mesh::Element;
+use lopin_core::Problem;
+
+/// A node on a contact interface: which contact (index among the contact interfaces) and which
+/// interface node.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ContactNode {
+    /// Index among the scene's contact interfaces (the order of `post::contact`).
+    pub contact: usize,
+    /// Interface node number.
+    pub node: usize,
+}
+
+/// Geometry of one substructure.
+#[derive(Debug, Clone)]
+pub struct SubGeometry {
+    /// Node coordinates.
+    pub nodes: Vec<Vec3>,
+    /// Boundary quadrilaterals (outward ordering).
+    pub faces: Vec<[usize; 4]>,
+    /// Hexahedra.
+    pub elements: Vec<[usize; 8]>,
+    /// Mean of the nodes.
+    pub centroid: Vec3,
+    /// Contact node of each mesh node, if any.
+    pub contact: Vec<Option<ContactNode>>,
+}
+
+/// Geometry of the whole scene.
+#[derive(Debug, Clone)]
+pub struct SceneGeometry {
+    /// One per substructure.
+    pub subs: Vec<SubGeometry>,
+    /// Bounding box corners.
+    pub lo: Vec3,
+    /// Bounding box corners.
+    pub hi: Vec3,
+}
+
+fn v3(p: [f64; 3]) -> Vec3 {
+    Vec3::new(p[0] as f32, p[1] as f32, p[2] as f32)
+}
+
+impl SceneGeometry {
+    /// Extracts the geometry of a problem.
+    pub fn of(problem: &Problem) -> SceneGeometry {
+        let mut subs: Vec<SubGeometry> = problem
+            .subs
+            .iter()
+            .map(|s| {
+                let nodes: Vec<Vec3> = s.mesh.nodes.iter().map(|&p| v3(p)).collect();
+                let faces = s
+                    .mesh
+                    .boundary_faces()
+                    .into_iter()
+                    .filter_map(|f| <[usize; 4]>::try_from(f.nodes).ok())
+                    .collect();
+                let elements = s
+                    .mesh
+                    .elements
+                    .iter()
+                    .map(|e| match e {
+                        Element::Hex8(n) => *n,
+                    })
+                    .collect();
+                let centroid = nodes.iter().copied().sum::<Vec3>() / (nodes.len().max(1) as f32);
+                SubGeometry {
+                    contact: vec![None; nodes.len()],
+                    nodes,
+                    faces,
+                    elements,
+                    centroid,
+                }
+            })
+            .collect();
+        for (c, iface) in problem
+            .interfaces
+            .iter()
+            .filter(|i| i.is_contact())
+            .enumerate()
+        {
+            for side in &iface.sides {
+                for (k, &n) in side.nodes.iter().enumerate() {
+                    let slot = &mut subs[side.sub].contact[n];
+                    if slot.is_none() {
+                        *slot = Some(ContactNode {
+                            contact: c,
+                            node: k,
+                        });
+                    }
+                }
+            }
+        }
+        let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+        for s in &subs {
+            for &p in &s.nodes {
+                lo = lo.min(p);
+                hi = hi.max(p);
+            }
+        }
+        if !lo.is_finite() {
+            (lo, hi) = (Vec3::ZERO, Vec3::ONE);
+        }
+        SceneGeometry { subs, lo, hi }
+    }
+
+    /// Centre of the bounding box.
+    pub fn centre(&self) -> Vec3 {
+        0.5 * (self.lo + self.hi)
+    }
+
+    /// Offset of substructure `i` in the exploded view (factor 0: none).
+    pub fn explode_offset(&self, i: usize, factor: f32) -> Vec3 {
+        (self.subs[i].centroid - self.centre()) * factor
+    }
+
+    /// Number of surface triangles.
+    pub fn triangle_count(&self) -> usize {
+        self.subs.iter().map(|s| 2 * s.faces.len()).sum()
+    }
+}

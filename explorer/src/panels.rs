@@ -1,0 +1,252 @@
+//! The explorer's top bar (scene picker, solver status) and left panel: the parameters that
+//! launch a warm re-solve (friction, gap, impact velocity, k, μ, tolerance), the view options
+//! (quantity, colour range, deformation, exploded view, section) and the scene's sizes and
+//! per-stage timings.
+
+use crate::app::{ExplorerApp, SolveStatus};
+use crate::quantity::Quantity;
+use egui::{Color32, RichText};
+
+/// Top bar: title, scene picker, status.
+pub fn top_bar(app: &mut ExplorerApp, ui: &mut egui::Ui) {
+    egui::Panel::top("lopin-top").show(ui, |ui| {
+        ui.horizontal(|ui| {
+            ui.heading("Lopin");
+            ui.separator();
+            let mut chosen = None;
+            egui::ComboBox::from_label("scene")
+                .selected_text(app.info.name.clone())
+                .show_ui(ui, |ui| {
+                    for name in lopin_core::scene::registry::SCENES {
+                        if ui.selectable_label(app.info.name == name, name).clicked() {
+                            chosen = Some(name.to_string());
+                        }
+                    }
+                });
+            if let Some(name) = chosen.filter(|n| *n != app.info.name) {
+                app.pending_scene = Some(name);
+            }
+            ui.label(RichText::new(&app.info.description).weak());
+            ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
+                status_label(app, ui);
+            });
+        });
+        if let Some(e) = &app.error {
+            ui.colored_label(Color32::from_rgb(220, 80, 60), format!("error: {e}"));
+        }
+    });
+}
+
+fn status_label(app: &ExplorerApp, ui: &mut egui::Ui) {
+    let text = match &app.status {
+        SolveStatus::Starting => "factorizing…".to_string(),
+        SolveStatus::Running {
+            iterations, eta, ..
+        } => format!("solving: iteration {iterations}, η = {eta:.2e}"),
+        SolveStatus::Done(r) if r.converged => {
+            let mut t = format!(
+                "converged: {} iterations{}, η = {:.2e}",
+                r.iterations,
+                if r.warm { " (warm)" } else { "" },
+                r.eta
+            );
+            if !app.options.reproducible {
+                if let Some(l) = app.last_latency {
+                    t += &format!(", {:.0} ms", 1e3 * l);
+                }
+            }
+            t
+        }
+        SolveStatus::Done(r) => format!(
+            "not converged after {} iterations (η = {:.2e})",
+            r.iterations, r.eta
+        ),
+        SolveStatus::Failed(e) => format!("failed: {e}"),
+    };
+    ui.label(text);
+}
+
+/// Left panel: parameters, view options, sizes and timings.
+pub fn controls(app: &mut ExplorerApp, ui: &mut egui::Ui) {
+    egui::Panel::left("lopin-controls")
+        .resizable(false)
+        .exact_size(280.0)
+        .show(ui, |ui| {
+            ui.spacing_mut().slider_width = 110.0;
+            egui::ScrollArea::vertical().show(ui, |ui| {
+                parameters(app, ui);
+                ui.separator();
+                view_options(app, ui);
+                ui.separator();
+                sizes(app, ui);
+            });
+        });
+}
+
+fn parameters(app: &mut ExplorerApp, ui: &mut egui::Ui) {
+    ui.strong("Parameters (each change re-solves warm)");
+    let p = &mut app.params;
+    if let Some(f) = &mut p.friction {
+        ui.add(
+            egui::Slider::new(f, 0.0..=1.0)
+                .step_by(0.01)
+                .text("friction f"),
+        );
+    }
+    if let Some(g) = &mut p.gap {
+        let mut um = *g * 1e6;
+        if ui
+            .add(
+                egui::Slider::new(&mut um, 0.0..=500.0)
+                    .step_by(1.0)
+                    .text("gap g0 (µm)"),
+            )
+            .changed()
+        {
+            *g = um * 1e-6;
+        }
+    }
+    if let Some(v) = &mut p.velocity {
+        ui.add(
+            egui::Slider::new(v, 0.0..=50.0)
+                .step_by(0.5)
+                .text("impact v0 (m/s)"),
+        );
+    }
+    ui.add(
+        egui::Slider::new(&mut p.k, 1e5..=1e9)
+            .logarithmic(true)
+            .text("k (Pa s/m)"),
+    );
+    ui.add(
+        egui::Slider::new(&mut p.mu, 0.1..=1.0)
+            .step_by(0.05)
+            .text("relaxation μ"),
+    );
+    let mut exponent = p.tol.log10().round() as i32;
+    if ui
+        .add(egui::Slider::new(&mut exponent, -8..=-1).text("tolerance 10^"))
+        .changed()
+    {
+        p.tol = 10f64.powi(exponent);
+    }
+}
+
+fn view_options(app: &mut ExplorerApp, ui: &mut egui::Ui) {
+    ui.strong("View");
+    let v = &mut app.view;
+    let before = v.quantity;
+    egui::ComboBox::from_label("field")
+        .selected_text(v.quantity.label())
+        .show_ui(ui, |ui| {
+            for q in Quantity::ALL {
+                let enabled = !q.on_interfaces() || app.info.contacts > 0;
+                ui.add_enabled_ui(enabled, |ui| {
+                    ui.selectable_value(&mut v.quantity, q, q.label());
+                });
+            }
+        });
+    if v.quantity != before {
+        // interface fields sit between bodies: pull them apart so they can be seen
+        if v.quantity.on_interfaces() {
+            v.exploded = true;
+        }
+        v.fixed_range = false;
+    }
+    ui.horizontal(|ui| {
+        ui.radio_value(&mut v.fixed_range, false, "auto range");
+        if ui.radio_value(&mut v.fixed_range, true, "fixed").clicked() {
+            let (lo, hi) = app.mesh.extent;
+            v.range_min = lo;
+            v.range_max = hi;
+        }
+    });
+    if v.fixed_range {
+        ui.horizontal(|ui| {
+            let min = ui.label("min").id;
+            ui.add(egui::DragValue::new(&mut v.range_min).speed(0.01))
+                .labelled_by(min);
+            let max = ui.label("max").id;
+            ui.add(egui::DragValue::new(&mut v.range_max).speed(0.01))
+                .labelled_by(max);
+        });
+        if v.range_max <= v.range_min {
+            v.range_max = v.range_min + 1e-6;
+        }
+    }
+    ui.horizontal(|ui| {
+        let label = ui.checkbox(&mut v.deformed, "deformed ×").id;
+        ui.add_enabled(
+            v.deformed,
+            egui::DragValue::new(&mut v.deform_scale)
+                .range(1.0..=1e6)
+                .speed(10.0),
+        )
+        .labelled_by(label);
+    });
+    ui.horizontal(|ui| {
+        ui.checkbox(&mut v.exploded, "exploded");
+        ui.add_enabled(
+            v.exploded,
+            egui::Slider::new(&mut v.explode_amount, 0.05..=1.0)
+                .show_value(false)
+                .text("amount"),
+        );
+    });
+    ui.checkbox(&mut v.section, "section");
+    ui.add_enabled_ui(v.section, |ui| {
+        ui.horizontal(|ui| {
+            for (a, name) in ["x", "y", "z"].iter().enumerate() {
+                ui.radio_value(&mut v.section_axis, a, *name);
+            }
+        });
+        ui.add(egui::Slider::new(&mut v.section_fraction, 0.0..=1.0).text("cut position"));
+    });
+    if ui.button("reset view").clicked() {
+        app.camera = crate::camera::Camera::framing(app.geometry.lo, app.geometry.hi);
+    }
+}
+
+fn sizes(app: &ExplorerApp, ui: &mut egui::Ui) {
+    let i = &app.info;
+    ui.strong("Scene");
+    egui::Grid::new("sizes").num_columns(2).show(ui, |ui| {
+        let mut row = |k: &str, v: String| {
+            ui.label(k);
+            ui.label(v);
+            ui.end_row();
+        };
+        row("substructures", i.subs.to_string());
+        row(
+            "interfaces",
+            format!("{} ({} contact)", i.interfaces, i.contacts),
+        );
+        row("dofs", i.dofs.to_string());
+        row("time steps", format!("{} × {:.3} µs", i.steps, i.dt * 1e6));
+        row("triangles", app.geometry.triangle_count().to_string());
+    });
+    ui.strong("Timings (s, whole session)");
+    let Some(r) = app.reports.last() else {
+        ui.label("—");
+        return;
+    };
+    if app.options.reproducible {
+        ui.label("(hidden for reproducible screenshots)");
+        return;
+    }
+    egui::Grid::new("timings").num_columns(2).show(ui, |ui| {
+        let mut row = |k: &str, v: f64| {
+            ui.label(k);
+            ui.label(format!("{v:.3}"));
+            ui.end_row();
+        };
+        row("setup (factorizations)", r.stages.setup);
+        row("local stages", r.stages.local);
+        row("linear stages", r.stages.linear);
+        row("post-processing", r.stages.post);
+        row("last solve (wall)", r.solve_s);
+    });
+    if let Some(fps) = app.fps() {
+        ui.label(format!("{fps:.0} frames/s"));
+    }
+}

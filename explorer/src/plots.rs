@@ -1,0 +1,121 @@
+//! The right panel's plots (egui_plot): the live convergence of the LATIN error indicator η
+//! against cumulative iterations on a log scale with a marker at each parameter change (the
+//! seed paper's Figure 6, drawn live), the probe's velocity and von Mises history, and the
+//! contact interfaces' total normal force and maximum slip over time.
+
+use crate::app::ExplorerApp;
+use egui_plot::{Legend, Line, Plot, PlotPoints, VLine};
+
+/// Right panel with the three plots.
+pub fn show(app: &mut ExplorerApp, ui: &mut egui::Ui) {
+    egui::Panel::right("lopin-plots")
+        .resizable(false)
+        .exact_size(340.0)
+        .show(ui, |ui| {
+            let h = ((ui.available_height() - 90.0) / 3.0).max(90.0);
+            convergence(app, ui, h);
+            ui.separator();
+            probe(app, ui, h);
+            ui.separator();
+            interface(app, ui, h);
+        });
+}
+
+fn convergence(app: &ExplorerApp, ui: &mut egui::Ui, height: f32) {
+    ui.strong("Convergence: log10 η against cumulative iterations");
+    let points: PlotPoints = app
+        .convergence
+        .iter()
+        .filter(|p| p[1] > 0.0 && p[1].is_finite())
+        .map(|p| [p[0], p[1].log10()])
+        .collect();
+    let tol = app.params.tol.log10();
+    Plot::new("convergence")
+        .height(height)
+        .legend(Legend::default())
+        .x_axis_label("iterations")
+        .y_axis_label("log10 η")
+        .show(ui, |plot| {
+            plot.line(Line::new("η", points));
+            plot.hline(
+                egui_plot::HLine::new("tolerance", tol).style(egui_plot::LineStyle::dashed_loose()),
+            );
+            for (x, what) in app.markers.iter().skip(1) {
+                plot.vline(
+                    VLine::new(what.clone(), *x).color(egui::Color32::from_rgb(230, 150, 40)),
+                );
+            }
+        });
+}
+
+fn probe(app: &ExplorerApp, ui: &mut egui::Ui, height: f32) {
+    let Some((sub, node)) = app.probe else {
+        ui.strong("Probe");
+        ui.label("Click a point of the 3D view to plot its velocity and stress over time.");
+        return;
+    };
+    ui.strong(format!("Probe: substructure {sub}, node {node}"));
+    let dt_us = app.info.dt * 1e6;
+    let (speed, vm): (PlotPoints, PlotPoints) = match &app.probe_history {
+        Some(h) => (
+            h.speed
+                .iter()
+                .enumerate()
+                .map(|(m, v)| [m as f64 * dt_us, *v])
+                .collect(),
+            h.von_mises
+                .iter()
+                .enumerate()
+                .map(|(m, v)| [m as f64 * dt_us, v * 1e-6])
+                .collect(),
+        ),
+        None => (PlotPoints::default(), PlotPoints::default()),
+    };
+    Plot::new("probe")
+        .height(height)
+        .legend(Legend::default())
+        .x_axis_label("t (µs)")
+        .show(ui, |plot| {
+            plot.line(Line::new("|v| (m/s)", speed));
+            plot.line(Line::new("von Mises (MPa)", vm));
+            plot.vline(VLine::new("now", app.time() * 1e6));
+        });
+}
+
+fn interface(app: &ExplorerApp, ui: &mut egui::Ui, height: f32) {
+    ui.strong("Contact interfaces over time");
+    let Some(c) = &app.contact else {
+        ui.label(if app.info.contacts == 0 {
+            "This scene has no contact interface."
+        } else {
+            "waiting for the solver…"
+        });
+        return;
+    };
+    let dt_us = app.info.dt * 1e6;
+    let steps = c.first().map_or(0, |h| h.normal_force.len());
+    let force: PlotPoints = (0..steps)
+        .map(|m| {
+            let f: f64 = c.iter().map(|h| h.normal_force[m]).sum();
+            [m as f64 * dt_us, f * 1e-3]
+        })
+        .collect();
+    let slip: PlotPoints = (0..steps)
+        .map(|m| {
+            let s = c
+                .iter()
+                .flat_map(|h| h.slip[m].iter().copied())
+                .fold(0.0, f64::max);
+            [m as f64 * dt_us, s * 1e6]
+        })
+        .collect();
+    Plot::new("interface")
+        .height(height)
+        .legend(Legend::default())
+        .x_axis_label("t (µs)")
+        .show(ui, |plot| {
+            plot.line(Line::new("normal force (kN)", force));
+            plot.line(Line::new("max slip (µm)", slip));
+            plot.vline(VLine::new("now", app.time() * 1e6));
+        });
+}

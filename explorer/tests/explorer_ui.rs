@@ -1,0 +1,180 @@
+//! The explorer driven through its widgets with egui_kittest (rendered with wgpu on the software
+//! Vulkan driver): the friction slider launches a converged warm re-solve, the time scrubber,
+//! field choice and section change what is drawn, a click on the body picks a probe node, and
+//! snapshot images of the main views are compared with the committed ones
+//! (`tests/snapshots/`; regenerate with `UPDATE_SNAPSHOTS=1`).
+
+use egui::Role;
+use egui_kittest::kittest::Queryable;
+use egui_kittest::Harness;
+use lopin_explorer::quantity::Quantity;
+use lopin_explorer::{ExplorerApp, Options};
+use std::time::{Duration, Instant};
+
+fn harness(scene: &str) -> Harness<'static, ExplorerApp> {
+    Harness::builder()
+        .with_size(egui::vec2(1400.0, 860.0))
+        .wgpu()
+        .build_eframe(|cc| {
+            ExplorerApp::new(
+                cc,
+                Options {
+                    scene: scene.into(),
+                    reproducible: true,
+                    measure: None,
+                },
+            )
+            .expect("the scene loads")
+        })
+}
+
+/// Steps frames until the newest solve converged and the displayed step's converged fields are
+/// on screen.
+fn settle(h: &mut Harness<'static, ExplorerApp>) {
+    let start = Instant::now();
+    loop {
+        h.step();
+        let app = h.state();
+        let ready = app.converged()
+            && app
+                .shown_fields()
+                .is_some_and(|f| !f.live && f.step == app.step);
+        if ready {
+            break;
+        }
+        assert!(
+            start.elapsed() < Duration::from_secs(180),
+            "the explorer did not settle: {:?}",
+            app.status
+        );
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    // one more frame draws the rebuilt mesh
+    h.step();
+    h.step();
+}
+
+#[test]
+fn the_friction_slider_launches_a_converged_warm_re_solve() {
+    let mut h = harness("two-blocks");
+    settle(&mut h);
+    let first = h.state().reports.len();
+    let f0 = h.state().params.friction.expect("two-blocks has a contact");
+    // a slider move of 0.05, as in the latency benchmark
+    let f1 = f0 + 0.05;
+    h.get_by_role_and_label(Role::Slider, "friction f")
+        .set_value_accesskit(f1);
+    h.step();
+    let moved = h.state().params.friction.expect("friction");
+    assert!((moved - f1).abs() < 1e-9, "{moved} vs {f1}");
+    assert!(h.state().busy(), "a re-solve starts at once");
+    settle(&mut h);
+    let app = h.state();
+    let r = app.reports.last().expect("a report");
+    assert!(app.reports.len() > first);
+    assert!(r.converged && r.warm && r.eta < app.params.tol, "{r:?}");
+    assert_eq!(r.params.friction, Some(moved));
+    // the convergence plot has a marker at the change and every η of both solves
+    assert_eq!(app.markers.len(), 2);
+    assert!(app.markers[1].1.starts_with("f = "), "{:?}", app.markers);
+    let total: usize = app.reports.iter().map(|r| r.iterations).sum();
+    assert_eq!(app.convergence.len(), total);
+}
+
+#[test]
+fn scrubbing_time_switching_field_and_moving_the_section_change_the_view() {
+    let mut h = harness("two-blocks");
+    settle(&mut h);
+    // time scrubber
+    h.get_by_role_and_label(Role::Slider, "step")
+        .set_value_accesskit(10.0);
+    settle(&mut h);
+    assert_eq!(h.state().step, 10);
+    let vm_mesh = h.state().mesh.clone();
+    assert!(
+        vm_mesh.extent.1 > 0.0,
+        "stress is drawn: {:?}",
+        vm_mesh.extent
+    );
+    // field: velocity magnitude, in m/s; nothing is re-solved
+    let solves = h.state().reports.len();
+    h.state_mut().view.quantity = Quantity::Velocity;
+    h.step();
+    let v_mesh = h.state().mesh.clone();
+    assert_ne!(v_mesh.extent, vm_mesh.extent);
+    assert!(
+        v_mesh.extent.1 > 0.1 && v_mesh.extent.1 < 100.0,
+        "{:?}",
+        v_mesh.extent
+    );
+    assert_eq!(h.state().reports.len(), solves);
+    // section: the cut faces add triangles; moving it changes them
+    h.get_by_role_and_label(Role::CheckBox, "section").click();
+    h.step();
+    assert!(h.state().view.section);
+    let cut_mesh = h.state().mesh.clone();
+    let cut = cut_mesh.vertices.len();
+    assert!(
+        cut > v_mesh.vertices.len(),
+        "{cut} vs {}",
+        v_mesh.vertices.len()
+    );
+    h.get_by_role_and_label(Role::Slider, "cut position")
+        .set_value_accesskit(0.25);
+    h.step();
+    assert!((h.state().view.section_fraction - 0.25).abs() < 1e-6);
+    assert_ne!(h.state().mesh.vertices, cut_mesh.vertices);
+    // a camera move alone rebuilds nothing
+    let version = h.state().mesh_version;
+    h.state_mut().camera.orbit(40.0, 10.0);
+    h.step();
+    assert_eq!(h.state().mesh_version, version);
+}
+
+#[test]
+fn a_click_on_the_body_picks_a_probe_with_a_history() {
+    let mut h = harness("two-blocks");
+    settle(&mut h);
+    // the view's centre looks at the scene's centre, on the body
+    let centre = h.get_by_label("3D view").rect().center();
+    h.hover_at(centre);
+    h.step();
+    h.drag_at(centre);
+    h.step();
+    h.drop_at(centre);
+    h.step();
+    let start = Instant::now();
+    while h.state().probe_history.is_none() {
+        h.step();
+        assert!(
+            start.elapsed() < Duration::from_secs(60),
+            "no probe history"
+        );
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    let app = h.state();
+    let p = app.probe_history.as_ref().expect("history");
+    assert_eq!(p.speed.len(), app.info.steps + 1);
+    assert_eq!(p.speed[0], 0.0, "at rest before the impact");
+    assert!(p.speed.iter().copied().fold(0.0, f64::max) > 0.1);
+    assert!(p.von_mises.iter().copied().fold(0.0, f64::max) > 0.0);
+}
+
+#[test]
+fn snapshots_of_the_main_views() {
+    let mut h = harness("two-blocks");
+    settle(&mut h);
+    h.snapshot("two_blocks_von_mises");
+    h.state_mut().view.quantity = Quantity::Velocity;
+    h.state_mut().view.section = true;
+    h.state_mut().view.section_axis = 1;
+    h.step();
+    h.step();
+    h.snapshot("two_blocks_velocity_section");
+    h.state_mut().view.section = false;
+    h.state_mut().view.quantity = Quantity::Pressure;
+    h.state_mut().view.exploded = true;
+    h.step();
+    h.step();
+    h.snapshot("two_blocks_contact_pressure_exploded");
+}

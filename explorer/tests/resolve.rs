@@ -1,0 +1,133 @@
+//! The explorer's background re-solve: a parameter change gives a converged warm re-solve equal
+//! to a cold solve at the new value within the tolerance bound, and a change during a re-solve
+//! cancels it (METHOD §8).
+
+use lopin_core::{post, scene, Settings, Solver};
+use lopin_explorer::fields::StepFields;
+use lopin_explorer::params::Params;
+use lopin_explorer::worker::{Event, SolveReport, Worker};
+use std::sync::Arc;
+use std::time::Duration;
+
+fn two_blocks() -> (lopin_core::Problem, Settings) {
+    let spec = scene::registry::builtin("two-blocks").expect("built-in scene");
+    let problem = scene::build::build(&spec, "scene two-blocks").expect("builds");
+    let settings = Settings::for_problem(&problem, &spec.solver);
+    (problem, settings)
+}
+
+/// Waits for the report of `generation`, collecting the non-live fields that arrive.
+fn finish(worker: &Worker, generation: u64, fields: &mut Vec<Arc<StepFields>>) -> SolveReport {
+    loop {
+        match worker.wait(Duration::from_secs(120)) {
+            Some(Event::Finished(r)) if r.generation == generation => return r,
+            Some(Event::Fields(f)) if !f.live && f.generation == generation => fields.push(f),
+            Some(Event::Error(e)) => panic!("worker error: {e}"),
+            Some(_) => {}
+            None => panic!("no report for generation {generation} within 120 s"),
+        }
+    }
+}
+
+fn max_abs(v: &[f64]) -> f64 {
+    v.iter().fold(0.0, |m, x| m.max(x.abs()))
+}
+
+#[test]
+fn a_slider_change_converges_warm_to_the_cold_solution() {
+    let (problem, settings) = two_blocks();
+    let mut worker = Worker::spawn(problem.clone(), settings, Arc::new(|| {})).expect("worker");
+    let mut params = Params::of(&problem, &settings);
+    let tol = params.tol;
+    let g0 = worker.solve(params.clone());
+    let r0 = finish(&worker, g0, &mut Vec::new());
+    assert!(r0.converged && !r0.warm, "{r0:?}");
+
+    params.friction = Some(0.1);
+    let g1 = worker.solve(params.clone());
+    let r1 = finish(&worker, g1, &mut Vec::new());
+    assert!(r1.converged && r1.warm && r1.eta < tol, "{r1:?}");
+    let steps = problem.time.steps;
+    let probe_steps = [steps / 4, steps / 2, 3 * steps / 4, steps];
+    let mut warm = Vec::new();
+    for m in probe_steps {
+        worker.request_fields(m);
+        loop {
+            match worker.wait(Duration::from_secs(60)).expect("fields arrive") {
+                Event::Fields(f) if !f.live && f.step == m => {
+                    assert_eq!(f.generation, g1);
+                    warm.push(f);
+                    break;
+                }
+                _ => {}
+            }
+        }
+    }
+
+    // cold solve at f = 0.1 with the same settings
+    let mut cold_problem = problem.clone();
+    cold_problem.set_friction(0.1);
+    let mut solver = Solver::new(cold_problem, settings).expect("solver");
+    let cold = solver.solve(None).expect("cold solve");
+    assert!(cold.converged);
+    let mut peak: f64 = 0.0;
+    let mut diff: f64 = 0.0;
+    for (w, &m) in warm.iter().zip(&probe_steps) {
+        let c = post::fields_at(&solver, &cold, m);
+        for (ws, cs) in w.subs.iter().zip(&c) {
+            peak = peak.max(max_abs(&cs.v));
+            let d: Vec<f64> = ws.v.iter().zip(&cs.v).map(|(a, b)| a - b).collect();
+            diff = diff.max(max_abs(&d));
+        }
+    }
+    let rel = diff / peak;
+    eprintln!(
+        "warm {} iterations vs cold {}; max velocity difference {rel:.2e} of the peak",
+        r1.iterations, cold.iterations
+    );
+    // the bound of the sweep validation (issue 4): 30 tol on the peak-relative difference
+    assert!(
+        rel < 30.0 * tol,
+        "warm and cold differ by {rel:.3e} > 30 tol"
+    );
+    assert!(
+        peak > 1.0,
+        "the impact drives the blocks: peak |v| = {peak}"
+    );
+}
+
+#[test]
+fn a_change_during_a_re_solve_cancels_it() {
+    let (problem, settings) = two_blocks();
+    let mut worker = Worker::spawn(problem.clone(), settings, Arc::new(|| {})).expect("worker");
+    let mut slow = Params::of(&problem, &settings);
+    slow.tol = 1e-10;
+    slow.friction = Some(0.1);
+    let g1 = worker.solve(slow.clone());
+    // let it run a few iterations
+    let mut seen = 0;
+    while seen < 3 {
+        match worker.wait(Duration::from_secs(60)).expect("progress") {
+            Event::Progress { generation, .. } if generation == g1 => seen += 1,
+            Event::Error(e) => panic!("{e}"),
+            _ => {}
+        }
+    }
+    let mut fast = slow.clone();
+    fast.tol = 1e-3;
+    fast.friction = Some(0.2);
+    let g2 = worker.solve(fast);
+    let r1 = finish(&worker, g1, &mut Vec::new());
+    assert!(r1.cancelled && !r1.converged, "{r1:?}");
+    assert!(
+        r1.iterations < 100,
+        "cancelled promptly: {} iterations",
+        r1.iterations
+    );
+    let mut fields = Vec::new();
+    let r2 = finish(&worker, g2, &mut fields);
+    assert!(r2.converged && r2.warm && !r2.cancelled, "{r2:?}");
+    assert_eq!(r2.params.friction, Some(0.2));
+    // the converged solve sent the fields of the displayed step
+    assert!(fields.iter().any(|f| f.generation == g2));
+}
