@@ -564,6 +564,7 @@ impl ExplorerApp {
 
     /// Lays out one frame (shared by eframe and the tests).
     pub fn frame(&mut self, ui: &mut egui::Ui) {
+        let started = Instant::now();
         let dt = self.frame_clock();
         self.pump();
         self.advance_time(dt.min(0.1));
@@ -577,8 +578,9 @@ impl ExplorerApp {
             .frame(egui::Frame::NONE)
             .show(ui, |ui| crate::view3d::show(self, ui));
         self.resolve_if_changed();
-        let converged = self.converged();
+        let (converged, busy) = (self.converged(), self.busy());
         if let Some(m) = &mut self.measure {
+            m.on_ui_time(started.elapsed().as_secs_f64(), busy);
             match m.next_action(converged) {
                 crate::measure::Action::Wait => {}
                 crate::measure::Action::Nudge => {

@@ -34,6 +34,8 @@ pub struct Measure {
     iterations: Vec<usize>,
     busy_frames: Vec<f64>,
     idle_frames: Vec<f64>,
+    busy_ui: Vec<f64>,
+    idle_ui: Vec<f64>,
     done: bool,
 }
 
@@ -76,6 +78,8 @@ impl Measure {
             iterations: Vec::new(),
             busy_frames: Vec::new(),
             idle_frames: Vec::new(),
+            busy_ui: Vec::new(),
+            idle_ui: Vec::new(),
             done: false,
         }
     }
@@ -89,6 +93,18 @@ impl Measure {
             self.busy_frames.push(dt);
         } else {
             self.idle_frames.push(dt);
+        }
+    }
+
+    /// Records the time the UI thread spent laying out one frame (logic, mesh rebuild, panels).
+    pub fn on_ui_time(&mut self, seconds: f64, busy: bool) {
+        if self.moves == 0 {
+            return;
+        }
+        if busy {
+            self.busy_ui.push(seconds);
+        } else {
+            self.idle_ui.push(seconds);
         }
     }
 
@@ -128,8 +144,10 @@ impl Measure {
         let busy = stats(&self.busy_frames);
         let idle = stats(&self.idle_frames);
         let fps = |s: Stats| 1.0 / s.median;
+        let busy_ui = stats(&self.busy_ui);
+        let idle_ui = stats(&self.idle_ui);
         let text = format!(
-            "{{\n  \"moves\": {},\n  \"resolve_latency_s\": {{\"median\": {:.4}, \"p90\": {:.4}, \"max\": {:.4}, \"all\": {:?}}},\n  \"iterations\": {:?},\n  \"frame_interval_while_solving_s\": {{\"count\": {}, \"median\": {:.4}, \"p90\": {:.4}, \"max\": {:.4}}},\n  \"fps_while_solving_median\": {:.1},\n  \"frame_interval_idle_s\": {{\"count\": {}, \"median\": {:.4}, \"p90\": {:.4}, \"max\": {:.4}}},\n  \"fps_idle_median\": {:.1}\n}}\n",
+            "{{\n  \"moves\": {},\n  \"resolve_latency_s\": {{\"median\": {:.4}, \"p90\": {:.4}, \"max\": {:.4}, \"all\": {:?}}},\n  \"iterations\": {:?},\n  \"frame_interval_while_solving_s\": {{\"count\": {}, \"median\": {:.4}, \"p90\": {:.4}, \"max\": {:.4}}},\n  \"fps_while_solving_median\": {:.1},\n  \"frame_interval_idle_s\": {{\"count\": {}, \"median\": {:.4}, \"p90\": {:.4}, \"max\": {:.4}}},\n  \"fps_idle_median\": {:.1},\n  \"ui_thread_ms_per_frame_while_solving\": {{\"median\": {:.2}, \"p90\": {:.2}, \"max\": {:.2}}},\n  \"ui_thread_ms_per_frame_idle\": {{\"median\": {:.2}, \"p90\": {:.2}, \"max\": {:.2}}}\n}}\n",
             self.latencies.len(),
             lat.median,
             lat.p90,
@@ -145,7 +163,13 @@ impl Measure {
             idle.median,
             idle.p90,
             idle.max,
-            fps(idle)
+            fps(idle),
+            1e3 * busy_ui.median,
+            1e3 * busy_ui.p90,
+            1e3 * busy_ui.max,
+            1e3 * idle_ui.median,
+            1e3 * idle_ui.p90,
+            1e3 * idle_ui.max
         );
         print!("{text}");
         if let Err(e) = std::fs::write(&self.path, &text) {

@@ -58,6 +58,9 @@ pub struct Resources {
     vertex_count: u32,
     version: Option<u64>,
     targets: Option<Targets>,
+    /// What the resolved picture shows now (mesh version, camera, size): an unchanged frame
+    /// is not drawn again, only copied.
+    drawn: Option<(u64, Uniforms, [u32; 2])>,
 }
 
 /// Creates the pipelines once, for egui's target format, and stores them.
@@ -221,6 +224,7 @@ pub fn install(rs: &egui_wgpu::RenderState) {
         vertex_count: 0,
         version: None,
         targets: None,
+        drawn: None,
     });
 }
 
@@ -317,6 +321,11 @@ impl egui_wgpu::CallbackTrait for SceneCallback {
         };
         let size = [self.size_px[0].max(1), self.size_px[1].max(1)];
         r.ensure_targets(device, size);
+        let frame = (self.version, self.uniforms, size);
+        if r.drawn == Some(frame) {
+            return Vec::new();
+        }
+        r.drawn = Some(frame);
         if r.version != Some(self.version) {
             r.upload(device, queue, &self.mesh);
             r.version = Some(self.version);
