@@ -17,7 +17,11 @@ use lopin_core::counters::Instant;
 use lopin_core::post::ContactHistory;
 use lopin_core::{scene, Settings};
 use std::collections::HashMap;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
+
+/// Mesh versions are unique across scenes: the GPU resources outlive a scene change.
+static MESH_VERSION: AtomicU64 = AtomicU64::new(1);
 
 /// How the explorer starts.
 #[derive(Debug, Clone, PartialEq)]
@@ -191,7 +195,7 @@ pub struct ExplorerApp {
 }
 
 /// Loads a scene: spec, problem, settings, geometry.
-fn load(
+pub(crate) fn load(
     name_or_path: &str,
 ) -> lopin_core::Result<(
     scene::SceneSpec,
@@ -518,7 +522,7 @@ impl ExplorerApp {
         }
         let contact = self.contact.as_deref().map(Vec::as_slice);
         self.mesh = Arc::new(mesh_build::build(&self.geometry, f, contact, &inputs));
-        self.mesh_version += 1;
+        self.mesh_version = MESH_VERSION.fetch_add(1, Ordering::Relaxed);
         self.mesh_key = Some(key);
     }
 

@@ -25,8 +25,8 @@ pub use app::{ExplorerApp, Options};
 
 /// Opens the explorer in a native window (wgpu renderer) and returns when it is closed.
 pub fn run_native(options: Options) -> anyhow::Result<()> {
-    // fail before opening a window if the scene cannot be loaded
-    lopin_core::scene::load(&options.scene)?;
+    // fail before opening a window if the scene cannot be loaded or built
+    app::load(&options.scene)?;
     let native = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default()
             .with_title(format!("Lopin — {}", options.scene))

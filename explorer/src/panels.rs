@@ -89,40 +89,38 @@ fn parameters(app: &mut ExplorerApp, ui: &mut egui::Ui) {
     if let Some(f) = &mut p.friction {
         ui.add(
             egui::Slider::new(f, 0.0..=1.0)
-                .step_by(0.01)
+                .clamping(egui::SliderClamping::Never)
                 .text("friction f"),
         );
     }
     if let Some(g) = &mut p.gap {
         let mut um = *g * 1e6;
-        if ui
+        let moved = ui
             .add(
                 egui::Slider::new(&mut um, 0.0..=500.0)
-                    .step_by(1.0)
+                    .clamping(egui::SliderClamping::Never)
                     .text("gap g0 (µm)"),
             )
-            .changed()
-        {
+            .changed();
+        // only a real move changes the gap (not the µm round trip)
+        if moved && (um - *g * 1e6).abs() > 1e-9 * (1.0 + um.abs()) {
             *g = um * 1e-6;
         }
     }
     if let Some(v) = &mut p.velocity {
         ui.add(
             egui::Slider::new(v, 0.0..=50.0)
-                .step_by(0.5)
+                .clamping(egui::SliderClamping::Never)
                 .text("impact v0 (m/s)"),
         );
     }
     ui.add(
         egui::Slider::new(&mut p.k, 1e5..=1e9)
             .logarithmic(true)
+            .clamping(egui::SliderClamping::Never)
             .text("k (Pa s/m)"),
     );
-    ui.add(
-        egui::Slider::new(&mut p.mu, 0.1..=1.0)
-            .step_by(0.05)
-            .text("relaxation μ"),
-    );
+    ui.add(egui::Slider::new(&mut p.mu, 0.1..=1.0).text("relaxation μ"));
     let mut exponent = p.tol.log10().round() as i32;
     if ui
         .add(egui::Slider::new(&mut exponent, -8..=-1).text("tolerance 10^"))

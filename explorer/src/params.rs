@@ -53,20 +53,23 @@ impl Params {
         }
     }
 
-    /// Sets these values on the solver (validated there; k refactorizes).
-    pub fn apply(&self, solver: &mut Solver) -> lopin_core::Result<()> {
+    /// Sets on the solver the values that differ from `before` (what it holds now), so that a
+    /// scene's own per-interface values stay until the user moves that control. Validated
+    /// there; a new k refactorizes.
+    pub fn apply(&self, before: &Params, solver: &mut Solver) -> lopin_core::Result<()> {
         let mut settings = *solver.settings();
         settings.k = self.k;
         settings.mu = self.mu;
         settings.tol = self.tol;
         solver.set_settings(settings)?;
-        if let Some(f) = self.friction {
+        let changed = |a: Option<f64>, b: Option<f64>| a.filter(|&x| Some(x) != b);
+        if let Some(f) = changed(self.friction, before.friction) {
             solver.set_friction(f)?;
         }
-        if let Some(g) = self.gap {
+        if let Some(g) = changed(self.gap, before.gap) {
             solver.set_gap(g)?;
         }
-        if let Some(v) = self.velocity {
+        if let Some(v) = changed(self.velocity, before.velocity) {
             solver.set_velocity_amplitude(v)?;
         }
         Ok(())

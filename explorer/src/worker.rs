@@ -100,30 +100,40 @@ pub struct Worker {
 }
 
 impl Worker {
-    /// Starts the worker thread for a built problem; `wake` is called after each event so the UI
-    /// can repaint.
+    /// Starts the worker thread for a built problem (the factorizations are computed there, so
+    /// the UI never waits for them; a failure arrives as [`Event::Error`]); `wake` is called
+    /// after each event so the UI can repaint.
     pub fn spawn(
         problem: Problem,
         settings: lopin_core::Settings,
         wake: Arc<dyn Fn() + Send + Sync>,
     ) -> lopin_core::Result<Worker> {
-        let solver = Solver::new(problem, settings)?;
+        settings.validate()?;
         let (ctx, crx) = channel();
         let (etx, erx) = channel();
         let latest = Arc::new(AtomicU64::new(0));
         let display_step = Arc::new(AtomicUsize::new(0));
-        let mut state = WorkerState {
-            solver,
-            solution: None,
-            generation: 0,
-            latest: latest.clone(),
-            display_step: display_step.clone(),
-            events: etx,
-            wake,
-        };
+        let applied = Params::of(&problem, &settings);
+        let (latest_w, display_w) = (latest.clone(), display_step.clone());
         std::thread::Builder::new()
             .name("lopin-solver".into())
-            .spawn(move || state.serve(&crx))
+            .spawn(move || match Solver::new(problem, settings) {
+                Ok(solver) => WorkerState {
+                    solver,
+                    applied,
+                    solution: None,
+                    generation: 0,
+                    latest: latest_w,
+                    display_step: display_w,
+                    events: etx,
+                    wake,
+                }
+                .serve(&crx),
+                Err(e) => {
+                    let _ = etx.send(Event::Error(format!("{e}")));
+                    wake();
+                }
+            })
             .map_err(|e| lopin_core::LopinError::setting("thread", format!("cannot start: {e}")))?;
         Ok(Worker {
             commands: ctx,
@@ -186,6 +196,8 @@ impl Drop for Worker {
 
 struct WorkerState {
     solver: Solver,
+    /// The parameter values the solver holds.
+    applied: Params,
     solution: Option<(u64, Solution)>,
     generation: u64,
     latest: Arc<AtomicU64>,
@@ -246,10 +258,11 @@ impl WorkerState {
 
     fn run_solve(&mut self, generation: u64, params: &Params) {
         self.generation = generation;
-        if let Err(e) = params.apply(&mut self.solver) {
+        if let Err(e) = params.apply(&self.applied, &mut self.solver) {
             self.send(Event::Error(format!("{e}")));
             return;
         }
+        self.applied = params.clone();
         let start: Option<InterfaceState> = self.solution.as_ref().map(|(_, s)| s.state.clone());
         let warm = start.is_some();
         let t0 = Instant::now();

@@ -178,3 +178,17 @@ fn snapshots_of_the_main_views() {
     h.step();
     h.snapshot("two_blocks_contact_pressure_exploded");
 }
+
+#[test]
+fn the_scene_picker_loads_another_scene() {
+    let mut h = harness("two-blocks");
+    settle(&mut h);
+    h.state_mut().pending_scene = Some("gap-impact".into());
+    h.step();
+    settle(&mut h);
+    let app = h.state();
+    assert_eq!(app.info.name, "gap-impact");
+    assert_eq!(app.reports.len(), 1, "a fresh session: {:?}", app.reports);
+    assert!(app.params.gap.is_some_and(|g| g > 0.0), "{:?}", app.params);
+    assert!(!app.mesh.vertices.is_empty());
+}
