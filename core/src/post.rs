@@ -11,6 +11,7 @@ use crate::mesh::{dot, Element, Vec3};
 use crate::par;
 use crate::solver::{Solution, Solver};
 use crate::state::TraceHistory;
+use crate::substructure::Substructure;
 
 /// Replays the linear stage of substructure `i` driven by ŝ over steps 1..=until, calling
 /// `visit(m, state, F, W)` at m = 0 (initial state) and at every step.
@@ -100,13 +101,16 @@ pub fn element_stress(solver: &Solver, i: usize, u: &[f64]) -> Vec<[f64; 6]> {
         .elements
         .iter()
         .map(|e| match e {
-            Element::Hex8(nodes) => {
-                let x: [Vec3; 8] = std::array::from_fn(|a| sub.mesh.nodes[nodes[a]]);
-                let ue: [f64; 24] = std::array::from_fn(|d| u[3 * nodes[d / 3] + d % 3]);
-                hex8::centre_stress(&x, &sub.material, &ue)
-            }
+            Element::Hex8(nodes) => hex_centre_stress(sub, nodes, u),
         })
         .collect()
+}
+
+/// Stress tensor (Voigt) at the centre of one hexahedron `nodes` of `sub` for displacements `u`.
+pub fn hex_centre_stress(sub: &Substructure, nodes: &[usize; 8], u: &[f64]) -> [f64; 6] {
+    let x: [Vec3; 8] = std::array::from_fn(|a| sub.mesh.nodes[nodes[a]]);
+    let ue: [f64; 24] = std::array::from_fn(|d| u[3 * nodes[d / 3] + d % 3]);
+    hex8::centre_stress(&x, &sub.material, &ue)
 }
 
 /// Energy balance over time (all substructures summed), m = 0..=N.

@@ -204,12 +204,7 @@ pub(crate) fn load(
     SceneGeometry,
 )> {
     let spec = scene::load(name_or_path)?;
-    let source = if scene::registry::builtin(name_or_path).is_some() {
-        format!("scene {name_or_path}")
-    } else {
-        name_or_path.to_string()
-    };
-    let problem = scene::build::build(&spec, &source)?;
+    let problem = scene::build::build(&spec, &scene::source_label(name_or_path))?;
     let settings = Settings::for_problem(&problem, &spec.solver);
     let geo = SceneGeometry::of(&problem);
     Ok((spec, problem, settings, geo))

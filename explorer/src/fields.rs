@@ -4,7 +4,7 @@
 //! Also the history of one node for the probe.
 
 use lopin_core::hex8;
-use lopin_core::mesh::{Element, Mesh, Vec3};
+use lopin_core::mesh::{Element, Mesh};
 use lopin_core::post;
 use lopin_core::{Solution, Solver};
 
@@ -102,11 +102,7 @@ pub fn probe(solver: &Solver, sol: &Solution, sub: usize, node: usize) -> (Vec<f
         speed.push((v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt());
         let mean = around
             .iter()
-            .map(|nodes| {
-                let x: [Vec3; 8] = std::array::from_fn(|a| s.mesh.nodes[nodes[a]]);
-                let ue: [f64; 24] = std::array::from_fn(|d| st.u[3 * nodes[d / 3] + d % 3]);
-                hex8::von_mises(&hex8::centre_stress(&x, &s.material, &ue))
-            })
+            .map(|nodes| hex8::von_mises(&post::hex_centre_stress(s, nodes, &st.u)))
             .sum::<f64>()
             / around.len().max(1) as f64;
         vm.push(mean);

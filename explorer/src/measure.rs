@@ -58,7 +58,7 @@ fn stats(v: &[f64]) -> Stats {
 }
 
 /// Order statistics of a sample.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, serde::Serialize)]
 struct Stats {
     count: usize,
     median: f64,
@@ -140,37 +140,21 @@ impl Measure {
     }
 
     fn report(&self) {
-        let lat = stats(&self.latencies);
-        let busy = stats(&self.busy_frames);
-        let idle = stats(&self.idle_frames);
-        let fps = |s: Stats| 1.0 / s.median;
-        let busy_ui = stats(&self.busy_ui);
-        let idle_ui = stats(&self.idle_ui);
-        let text = format!(
-            "{{\n  \"moves\": {},\n  \"resolve_latency_s\": {{\"median\": {:.4}, \"p90\": {:.4}, \"max\": {:.4}, \"all\": {:?}}},\n  \"iterations\": {:?},\n  \"frame_interval_while_solving_s\": {{\"count\": {}, \"median\": {:.4}, \"p90\": {:.4}, \"max\": {:.4}}},\n  \"fps_while_solving_median\": {:.1},\n  \"frame_interval_idle_s\": {{\"count\": {}, \"median\": {:.4}, \"p90\": {:.4}, \"max\": {:.4}}},\n  \"fps_idle_median\": {:.1},\n  \"ui_thread_ms_per_frame_while_solving\": {{\"median\": {:.2}, \"p90\": {:.2}, \"max\": {:.2}}},\n  \"ui_thread_ms_per_frame_idle\": {{\"median\": {:.2}, \"p90\": {:.2}, \"max\": {:.2}}}\n}}\n",
-            self.latencies.len(),
-            lat.median,
-            lat.p90,
-            lat.max,
-            self.latencies,
-            self.iterations,
-            busy.count,
-            busy.median,
-            busy.p90,
-            busy.max,
-            fps(busy),
-            idle.count,
-            idle.median,
-            idle.p90,
-            idle.max,
-            fps(idle),
-            1e3 * busy_ui.median,
-            1e3 * busy_ui.p90,
-            1e3 * busy_ui.max,
-            1e3 * idle_ui.median,
-            1e3 * idle_ui.p90,
-            1e3 * idle_ui.max
-        );
+        let ms = |v: &[f64]| stats(&v.iter().map(|x| 1e3 * x).collect::<Vec<_>>());
+        let (busy, idle) = (stats(&self.busy_frames), stats(&self.idle_frames));
+        let report = serde_json::json!({
+            "moves": self.latencies.len(),
+            "resolve_latency_s": stats(&self.latencies),
+            "resolve_latency_all_s": self.latencies,
+            "iterations": self.iterations,
+            "frame_interval_while_solving_s": busy,
+            "fps_while_solving_median": 1.0 / busy.median,
+            "frame_interval_idle_s": idle,
+            "fps_idle_median": 1.0 / idle.median,
+            "ui_thread_ms_per_frame_while_solving": ms(&self.busy_ui),
+            "ui_thread_ms_per_frame_idle": ms(&self.idle_ui),
+        });
+        let text = format!("{report:#}\n");
         print!("{text}");
         if let Err(e) = std::fs::write(&self.path, &text) {
             eprintln!("error: cannot write {}: {e}", self.path.display());

@@ -56,18 +56,10 @@ fn probe(app: &ExplorerApp, ui: &mut egui::Ui, height: f32) {
     };
     ui.strong(format!("Probe: substructure {sub}, node {node}"));
     let dt_us = app.info.dt * 1e6;
-    let (speed, vm): (PlotPoints, PlotPoints) = match &app.probe_history {
+    let (speed, vm) = match &app.probe_history {
         Some(h) => (
-            h.speed
-                .iter()
-                .enumerate()
-                .map(|(m, v)| [m as f64 * dt_us, *v])
-                .collect(),
-            h.von_mises
-                .iter()
-                .enumerate()
-                .map(|(m, v)| [m as f64 * dt_us, v * 1e-6])
-                .collect(),
+            over_time(h.speed.iter().copied(), dt_us),
+            over_time(h.von_mises.iter().map(|v| v * 1e-6), dt_us),
         ),
         None => (PlotPoints::default(), PlotPoints::default()),
     };
@@ -94,21 +86,19 @@ fn interface(app: &ExplorerApp, ui: &mut egui::Ui, height: f32) {
     };
     let dt_us = app.info.dt * 1e6;
     let steps = c.first().map_or(0, |h| h.normal_force.len());
-    let force: PlotPoints = (0..steps)
-        .map(|m| {
-            let f: f64 = c.iter().map(|h| h.normal_force[m]).sum();
-            [m as f64 * dt_us, f * 1e-3]
-        })
-        .collect();
-    let slip: PlotPoints = (0..steps)
-        .map(|m| {
-            let s = c
-                .iter()
+    let force = over_time(
+        (0..steps).map(|m| c.iter().map(|h| h.normal_force[m]).sum::<f64>() * 1e-3),
+        dt_us,
+    );
+    let slip = over_time(
+        (0..steps).map(|m| {
+            c.iter()
                 .flat_map(|h| h.slip[m].iter().copied())
-                .fold(0.0, f64::max);
-            [m as f64 * dt_us, s * 1e6]
-        })
-        .collect();
+                .fold(0.0, f64::max)
+                * 1e6
+        }),
+        dt_us,
+    );
     Plot::new("interface")
         .height(height)
         .legend(Legend::default())
@@ -118,4 +108,12 @@ fn interface(app: &ExplorerApp, ui: &mut egui::Ui, height: f32) {
             plot.line(Line::new("max slip (µm)", slip));
             plot.vline(VLine::new("now", app.time() * 1e6));
         });
+}
+
+/// A per-step series as plot points against time in µs.
+fn over_time(values: impl Iterator<Item = f64>, dt_us: f64) -> PlotPoints<'static> {
+    values
+        .enumerate()
+        .map(|(m, v)| [m as f64 * dt_us, v])
+        .collect()
 }

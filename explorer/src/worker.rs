@@ -122,7 +122,6 @@ impl Worker {
                     solver,
                     applied,
                     solution: None,
-                    generation: 0,
                     latest: latest_w,
                     display_step: display_w,
                     events: etx,
@@ -199,7 +198,6 @@ struct WorkerState {
     /// The parameter values the solver holds.
     applied: Params,
     solution: Option<(u64, Solution)>,
-    generation: u64,
     latest: Arc<AtomicU64>,
     display_step: Arc<AtomicUsize>,
     events: Sender<Event>,
@@ -257,7 +255,6 @@ impl WorkerState {
     }
 
     fn run_solve(&mut self, generation: u64, params: &Params) {
-        self.generation = generation;
         if let Err(e) = params.apply(&self.applied, &mut self.solver) {
             self.send(Event::Error(format!("{e}")));
             return;

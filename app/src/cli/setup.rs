@@ -67,12 +67,7 @@ pub fn build(args: &SceneArgs) -> anyhow::Result<Built> {
         );
         spec.set_friction(f);
     }
-    let source = if scene::registry::builtin(&args.scene).is_some() {
-        format!("scene {}", args.scene)
-    } else {
-        args.scene.clone()
-    };
-    let problem = scene::build::build(&spec, &source)?;
+    let problem = scene::build::build(&spec, &scene::source_label(&args.scene))?;
     let mut settings = Settings::for_problem(&problem, &spec.solver);
     if let Some(v) = args.tol {
         settings.tol = v;

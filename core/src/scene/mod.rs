@@ -27,6 +27,15 @@ pub fn to_toml(spec: &SceneSpec) -> String {
         .unwrap_or_else(|e| unreachable!("scene specs always serialize: {e}"))
 }
 
+/// How errors name a scene given to [`load`]: `scene NAME` for a built-in, else the path.
+pub fn source_label(name_or_path: &str) -> String {
+    if registry::builtin(name_or_path).is_some() {
+        format!("scene {name_or_path}")
+    } else {
+        name_or_path.to_string()
+    }
+}
+
 /// Reads a scene: a registry name, or a path to a TOML file (not on wasm32, which has no files).
 pub fn load(name_or_path: &str) -> Result<SceneSpec> {
     if let Some(spec) = registry::builtin(name_or_path) {
