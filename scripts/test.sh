@@ -1,10 +1,13 @@
 #!/usr/bin/env bash
 # The whole test suite, from a fresh Debian machine: installs the software Vulkan driver and Xvfb
-# the explorer's tests need, runs every test in an optimized build, then starts the real
+# the explorer's tests need and the independent readers the export tests check files with
+# (meshio, the rerun tool), runs every test in an optimized build, then starts the real
 # explorer in a window under Xvfb and checks its 3D view is drawn.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ./scripts/install-gui-deps.sh
+readers="$(./scripts/install-readers.sh)"
+export LOPIN_PYTHON="$readers/python" LOPIN_RERUN="$readers/rerun"
 export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-$(mktemp -d)}"
 chmod 700 "$XDG_RUNTIME_DIR"
 cargo test --release --workspace

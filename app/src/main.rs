@@ -1,9 +1,8 @@
 //! `lopin`: the desktop explorer (`lopin` alone, or `lopin view SCENE`) and the command line of
-//! Lopin (headless runs, sweeps, benchmarks, scene files).
-
-mod cli;
+//! Lopin (headless runs, sweeps, exports, benchmarks, scene files).
 
 use clap::Parser;
+use lopin_app::cli;
 
 fn main() -> std::process::ExitCode {
     let args = cli::Cli::parse();

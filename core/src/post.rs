@@ -86,6 +86,26 @@ pub fn fields_at(solver: &Solver, sol: &Solution, m: usize) -> Vec<SubFields> {
     out
 }
 
+/// u and v of every substructure at every step, `[sub][m]`, m = 0..=N: one replay per
+/// substructure (what exports need; [`fields_at`] replays up to one step).
+pub fn history(solver: &Solver, sol: &Solution) -> Vec<Vec<SubFields>> {
+    let t = Instant::now();
+    let p = solver.problem();
+    let n = p.time.steps;
+    let out = par::map_range(p.subs.len(), |i| {
+        let mut steps = Vec::with_capacity(n + 1);
+        replay(solver, sol, i, n, &mut |_, st, _, _| {
+            steps.push(SubFields {
+                u: st.u.clone(),
+                v: st.v.clone(),
+            });
+        });
+        steps
+    });
+    solver.counters().add_post(t.elapsed().as_secs_f64());
+    out
+}
+
 /// Element von Mises stress (at the element centre) of substructure `i` for displacements `u`.
 pub fn von_mises(solver: &Solver, i: usize, u: &[f64]) -> Vec<f64> {
     element_stress(solver, i, u)

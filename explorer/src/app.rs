@@ -11,6 +11,7 @@ use crate::measure::Measure;
 use crate::mesh_build::{self, MeshData, MeshInputs};
 use crate::params::Params;
 use crate::quantity::Quantity;
+use crate::recorder::{RecorderFactory, RecorderSlot};
 use crate::section::Section;
 use crate::worker::{Event, ProbeHistory, SolveReport, Worker};
 use lopin_core::counters::Instant;
@@ -18,7 +19,7 @@ use lopin_core::post::ContactHistory;
 use lopin_core::{scene, Settings};
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 
 /// Mesh versions are unique across scenes: the GPU resources outlive a scene change.
 static MESH_VERSION: AtomicU64 = AtomicU64::new(1);
@@ -32,6 +33,10 @@ pub struct Options {
     pub reproducible: bool,
     /// Measure re-solve latency and frame time, print them and close (see [`Measure`]).
     pub measure: Option<std::path::PathBuf>,
+    /// Makes Rerun recorders for the "record to Rerun" toggle (None: recording unavailable).
+    pub recorder: Option<RecorderFactory>,
+    /// Start with recording switched on.
+    pub record: bool,
 }
 
 impl Options {
@@ -41,6 +46,8 @@ impl Options {
             scene: scene.into(),
             reproducible: false,
             measure: None,
+            recorder: None,
+            record: false,
         }
     }
 }
@@ -191,6 +198,14 @@ pub struct ExplorerApp {
     measure: Option<Measure>,
     /// Scene chosen in the picker (loaded at the end of the frame).
     pub pending_scene: Option<String>,
+    /// The recorder converged solves go to while recording is on.
+    recorder: RecorderSlot,
+    /// Whether converged solves are recorded.
+    pub recording: bool,
+    /// Where they go.
+    pub recording_target: Option<String>,
+    /// How many solves were recorded for this scene.
+    pub recorded_solves: usize,
     ctx: egui::Context,
 }
 
@@ -237,17 +252,20 @@ impl ExplorerApp {
         };
         let params = Params::of(&problem, &settings);
         let wake_ctx = ctx.clone();
+        let recorder: RecorderSlot = Arc::new(Mutex::new(None));
         let mut worker = Worker::spawn(
             problem,
             settings,
             Arc::new(move || wake_ctx.request_repaint()),
+            recorder.clone(),
         )?;
         let step = info.steps / 2;
         worker.set_display_step(step);
         worker.solve(params.clone());
         let camera = Camera::framing(geo.lo, geo.hi);
         let measure = options.measure.clone().map(Measure::new);
-        Ok(ExplorerApp {
+        let record = options.record;
+        let mut app = ExplorerApp {
             options,
             info,
             geometry: Arc::new(geo),
@@ -282,20 +300,71 @@ impl ExplorerApp {
             last_frame: None,
             measure,
             pending_scene: None,
+            recorder,
+            recording: false,
+            recording_target: None,
+            recorded_solves: 0,
             ctx,
-        })
+        };
+        if record {
+            app.set_recording(true);
+        }
+        Ok(app)
+    }
+
+    /// Switches recording on (a recorder is made for this scene and the newest converged
+    /// solution is recorded at once, then every later one) or off (the recording is closed).
+    pub fn set_recording(&mut self, on: bool) {
+        if !on {
+            self.stop_recording();
+            return;
+        }
+        let Some(factory) = &self.options.recorder else {
+            self.error = Some("recording is not available in this build".into());
+            return;
+        };
+        match factory.make(&self.info.name) {
+            Ok(rec) => {
+                self.recording_target = Some(rec.target());
+                if let Ok(mut slot) = self.recorder.lock() {
+                    *slot = Some(rec);
+                }
+                self.recording = true;
+                self.worker.request_record();
+            }
+            Err(e) => {
+                self.recording = false;
+                self.error = Some(format!("cannot record: {e}"));
+            }
+        }
+    }
+
+    /// Closes the recording (the file is complete once this returns).
+    fn stop_recording(&mut self) {
+        self.recording = false;
+        let rec = self.recorder.lock().ok().and_then(|mut slot| slot.take());
+        drop(rec);
     }
 
     /// Replaces the scene (from the picker); on failure the current one stays and the error is
     /// shown.
     pub fn load_scene(&mut self, name_or_path: &str) {
+        let recording = self.recording;
         let options = Options {
             scene: name_or_path.into(),
+            record: recording,
             ..self.options.clone()
         };
+        // the old scene's recording is complete before the new scene's starts
+        self.stop_recording();
         match Self::with_context(self.ctx.clone(), options, self.gpu) {
             Ok(app) => *self = app,
-            Err(e) => self.error = Some(format!("{e}")),
+            Err(e) => {
+                self.error = Some(format!("{e}"));
+                if recording {
+                    self.set_recording(true);
+                }
+            }
         }
     }
 
@@ -495,6 +564,11 @@ impl ExplorerApp {
                     self.probe_history = Some(p);
                 }
             }
+            Event::Recorded { target, .. } => {
+                self.recorded_solves += 1;
+                self.recording_target = Some(target);
+            }
+            Event::RecordFailed(msg) => self.error = Some(format!("recording: {msg}")),
             Event::Error(msg) => {
                 self.error = Some(msg.clone());
                 self.status = SolveStatus::Failed(msg);

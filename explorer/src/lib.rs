@@ -15,6 +15,7 @@ pub mod panels;
 pub mod params;
 pub mod plots;
 pub mod quantity;
+pub mod recorder;
 pub mod render;
 pub mod section;
 pub mod timeline;
@@ -22,6 +23,7 @@ pub mod view3d;
 pub mod worker;
 
 pub use app::{ExplorerApp, Options};
+pub use recorder::{RecordedSolve, RecorderFactory, SolveRecorder};
 
 /// Opens the explorer in a native window (wgpu renderer) and returns when it is closed.
 pub fn run_native(options: Options) -> anyhow::Result<()> {

@@ -78,6 +78,8 @@ pub fn controls(app: &mut ExplorerApp, ui: &mut egui::Ui) {
                 ui.separator();
                 view_options(app, ui);
                 ui.separator();
+                recording(app, ui);
+                ui.separator();
                 sizes(app, ui);
             });
         });
@@ -127,6 +129,32 @@ fn parameters(app: &mut ExplorerApp, ui: &mut egui::Ui) {
         .changed()
     {
         p.tol = 10f64.powi(exponent);
+    }
+}
+
+/// The "record to Rerun" toggle, its target and how many solves went there.
+fn recording(app: &mut ExplorerApp, ui: &mut egui::Ui) {
+    ui.strong("Recording");
+    if app.options.recorder.is_none() {
+        ui.add_enabled(
+            false,
+            egui::Checkbox::new(&mut false, "record to Rerun"),
+        )
+        .on_disabled_hover_text(
+            "Recording writes a Rerun file or streams to a Rerun viewer: it needs the desktop build with the `rerun` feature.",
+        );
+        return;
+    }
+    let mut on = app.recording;
+    if ui
+        .checkbox(&mut on, "record to Rerun")
+        .on_hover_text("Record every converged solve (fields per time step, η per iteration, parameters) to Rerun")
+        .changed()
+    {
+        app.set_recording(on);
+    }
+    if let Some(t) = &app.recording_target {
+        ui.label(format!("{} solve(s) to {t}", app.recorded_solves));
     }
 }
 

@@ -3,11 +3,13 @@
 //! a parameter moves (METHOD §8 multiresolution), and streams η, live fields at the displayed
 //! step and, at the end, the interface histories back to the UI. A newer parameter change
 //! cancels the running solve through a shared generation counter; nothing on the UI thread
-//! ever waits for the solver.
+//! ever waits for the solver. While recording is on, each converged solve is handed to the
+//! recorder (see [`crate::recorder`]) from this thread.
 
 use crate::fields::{self, StepFields};
 use crate::params::Params;
-use lopin_core::counters::{Instant, StageTimes};
+use crate::recorder::{RecordedSolve, RecorderSlot};
+use lopin_core::counters::{Instant, IterationRecord, StageTimes};
 use lopin_core::post::{self, ContactHistory};
 use lopin_core::{Control, InterfaceState, Problem, Solution, Solver};
 use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
@@ -23,6 +25,7 @@ enum Command {
     Solve { generation: u64, params: Params },
     Fields { step: usize },
     Probe { sub: usize, node: usize },
+    Record,
 }
 
 /// How a solve ended.
@@ -86,6 +89,15 @@ pub enum Event {
     Finished(SolveReport),
     /// A probe history is ready.
     Probe(Arc<ProbeHistory>),
+    /// A converged solve was recorded.
+    Recorded {
+        /// Its generation.
+        generation: u64,
+        /// Where it went.
+        target: String,
+    },
+    /// Recording a solve failed: the message says why.
+    RecordFailed(String),
     /// A request failed (bad parameter): the message says which and why.
     Error(String),
 }
@@ -102,11 +114,13 @@ pub struct Worker {
 impl Worker {
     /// Starts the worker thread for a built problem (the factorizations are computed there, so
     /// the UI never waits for them; a failure arrives as [`Event::Error`]); `wake` is called
-    /// after each event so the UI can repaint.
+    /// after each event so the UI can repaint. Converged solves go to the recorder in `recorder`
+    /// whenever it holds one.
     pub fn spawn(
         problem: Problem,
         settings: lopin_core::Settings,
         wake: Arc<dyn Fn() + Send + Sync>,
+        recorder: RecorderSlot,
     ) -> lopin_core::Result<Worker> {
         settings.validate()?;
         let (ctx, crx) = channel();
@@ -122,6 +136,10 @@ impl Worker {
                     solver,
                     applied,
                     solution: None,
+                    iterations: Vec::new(),
+                    warm: false,
+                    recorded: None,
+                    recorder,
                     latest: latest_w,
                     display_step: display_w,
                     events: etx,
@@ -170,6 +188,11 @@ impl Worker {
         let _ = self.commands.send(Command::Probe { sub, node });
     }
 
+    /// Asks to record the newest converged solution (when recording is switched on).
+    pub fn request_record(&self) {
+        let _ = self.commands.send(Command::Record);
+    }
+
     /// Events received since the last call.
     pub fn poll(&self) -> Vec<Event> {
         self.events.try_iter().collect()
@@ -198,6 +221,13 @@ struct WorkerState {
     /// The parameter values the solver holds.
     applied: Params,
     solution: Option<(u64, Solution)>,
+    /// The iterations of the newest solve.
+    iterations: Vec<IterationRecord>,
+    /// Whether the newest solve started warm.
+    warm: bool,
+    /// Generation of the newest recorded solution.
+    recorded: Option<u64>,
+    recorder: RecorderSlot,
     latest: Arc<AtomicU64>,
     display_step: Arc<AtomicUsize>,
     events: Sender<Event>,
@@ -249,6 +279,7 @@ impl WorkerState {
                     }
                 }
                 Command::Probe { sub, node } => self.serve_probe(sub, node),
+                Command::Record => self.record(),
                 Command::Solve { .. } => {}
             }
         }
@@ -268,7 +299,9 @@ impl WorkerState {
         let display = self.display_step.clone();
         let events = self.events.clone();
         let wake = self.wake.clone();
+        let mut iterations = Vec::new();
         let result = self.solver.solve_observed(start.as_ref(), &mut |it| {
+            iterations.push(*it.record);
             let _ = events.send(Event::Progress {
                 generation,
                 eta: it.record.eta,
@@ -309,6 +342,8 @@ impl WorkerState {
                 let cancelled = sol.cancelled;
                 // a cancelled iterate is still the newest state: the next solve starts there
                 self.solution = Some((generation, sol));
+                self.iterations = iterations;
+                self.warm = warm;
                 if !cancelled {
                     self.serve_fields(self.display_step.load(Ordering::Relaxed));
                     if let Some((_, sol)) = &self.solution {
@@ -319,9 +354,47 @@ impl WorkerState {
                         });
                     }
                 }
+                let converged = report.converged;
                 self.send(Event::Finished(report));
+                if converged {
+                    self.record();
+                }
             }
             Err(e) => self.send(Event::Error(format!("{e}"))),
+        }
+    }
+
+    /// Hands the newest converged solution to the recorder, if one is on and it has not seen it.
+    fn record(&mut self) {
+        let Some((generation, sol)) = &self.solution else {
+            return;
+        };
+        if !sol.converged || self.recorded == Some(*generation) {
+            return;
+        }
+        let outcome = {
+            let Ok(mut slot) = self.recorder.lock() else {
+                return;
+            };
+            let Some(rec) = slot.as_mut() else {
+                return;
+            };
+            let solve = RecordedSolve {
+                solver: &self.solver,
+                solution: sol,
+                iterations: &self.iterations,
+                params: &self.applied,
+                warm: self.warm,
+            };
+            rec.record(&solve).map(|()| rec.target())
+        };
+        let generation = *generation;
+        match outcome {
+            Ok(target) => {
+                self.recorded = Some(generation);
+                self.send(Event::Recorded { generation, target });
+            }
+            Err(e) => self.send(Event::RecordFailed(e)),
         }
     }
 

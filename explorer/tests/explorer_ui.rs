@@ -4,55 +4,13 @@
 //! snapshot images of the main views are compared with the committed ones
 //! (`tests/snapshots/`; regenerate with `UPDATE_SNAPSHOTS=1`).
 
+use common::{harness, settle};
 use egui::Role;
 use egui_kittest::kittest::Queryable;
-use egui_kittest::Harness;
 use lopin_explorer::quantity::Quantity;
-use lopin_explorer::{ExplorerApp, Options};
 use std::time::{Duration, Instant};
 
-fn harness(scene: &str) -> Harness<'static, ExplorerApp> {
-    Harness::builder()
-        .with_size(egui::vec2(1400.0, 860.0))
-        .wgpu()
-        .build_eframe(|cc| {
-            ExplorerApp::new(
-                cc,
-                Options {
-                    scene: scene.into(),
-                    reproducible: true,
-                    measure: None,
-                },
-            )
-            .expect("the scene loads")
-        })
-}
-
-/// Steps frames until the newest solve converged and the displayed step's converged fields are
-/// on screen.
-fn settle(h: &mut Harness<'static, ExplorerApp>) {
-    let start = Instant::now();
-    loop {
-        h.step();
-        let app = h.state();
-        let ready = app.converged()
-            && app
-                .shown_fields()
-                .is_some_and(|f| !f.live && f.step == app.step);
-        if ready {
-            break;
-        }
-        assert!(
-            start.elapsed() < Duration::from_secs(180),
-            "the explorer did not settle: {:?}",
-            app.status
-        );
-        std::thread::sleep(Duration::from_millis(10));
-    }
-    // one more frame draws the rebuilt mesh
-    h.step();
-    h.step();
-}
+mod common;
 
 #[test]
 fn the_friction_slider_launches_a_converged_warm_re_solve() {

@@ -36,7 +36,13 @@ fn max_abs(v: &[f64]) -> f64 {
 #[test]
 fn a_slider_change_converges_warm_to_the_cold_solution() {
     let (problem, settings) = two_blocks();
-    let mut worker = Worker::spawn(problem.clone(), settings, Arc::new(|| {})).expect("worker");
+    let mut worker = Worker::spawn(
+        problem.clone(),
+        settings,
+        Arc::new(|| {}),
+        Default::default(),
+    )
+    .expect("worker");
     let mut params = Params::of(&problem, &settings);
     let tol = params.tol;
     let g0 = worker.solve(params.clone());
@@ -99,7 +105,13 @@ fn a_slider_change_converges_warm_to_the_cold_solution() {
 #[test]
 fn a_change_during_a_re_solve_cancels_it() {
     let (problem, settings) = two_blocks();
-    let mut worker = Worker::spawn(problem.clone(), settings, Arc::new(|| {})).expect("worker");
+    let mut worker = Worker::spawn(
+        problem.clone(),
+        settings,
+        Arc::new(|| {}),
+        Default::default(),
+    )
+    .expect("worker");
     let mut slow = Params::of(&problem, &settings);
     slow.tol = 1e-10;
     slow.friction = Some(0.1);

@@ -5,6 +5,8 @@ mod accuracy_plot;
 mod bar_exact;
 mod bench;
 mod compare;
+mod export;
+mod outputs;
 mod plot;
 mod reference;
 mod report;
@@ -41,6 +43,8 @@ enum Command {
     Accuracy(accuracy::AccuracyArgs),
     /// Numerical stability stress suite (adverse settings on small scenes).
     Stress(stress::StressArgs),
+    /// Write VTU files or a Rerun recording from a run saved with `lopin run --out DIR`.
+    Export(export::ExportArgs),
     /// Parametric study with warm starts (multiresolution), resumable.
     Sweep(sweep::SweepArgs),
     /// Time setup, iterations and triangular solves on `two-blocks` (refine 1 and 2).
@@ -64,6 +68,7 @@ pub fn dispatch(cli: Cli) -> anyhow::Result<std::process::ExitCode> {
         Some(Command::Accuracy(args)) => accuracy::accuracy(&args),
         Some(Command::Stress(args)) => stress::stress(&args),
         Some(Command::Sweep(args)) => sweep::sweep(&args),
+        Some(Command::Export(args)) => export::export_cmd(&args),
         Some(Command::Bench(args)) => bench::bench(&args),
         Some(Command::Scenes) => scenes::list(),
         Some(Command::ExportScene { name }) => scenes::export(&name),

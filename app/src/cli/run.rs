@@ -1,4 +1,6 @@
-//! `lopin run`: one solve with a progress bar, then a summary table or one JSON object.
+//! `lopin run`: one solve with a progress bar, then a summary table or one JSON object; with
+//! `--out`, `--vtu`, `--rerun`/`--rerun-connect`, the run directory, the ParaView files and the
+//! Rerun recording (see [`super::outputs`]).
 
 use std::process::ExitCode;
 
@@ -7,14 +9,20 @@ use indicatif::{ProgressBar, ProgressStyle};
 use lopin_core::counters::Instant;
 use lopin_core::{post, Control};
 
+use super::outputs::{describe, OutputArgs, FLUSH_TIMEOUT};
 use super::report::RunReport;
 use super::setup::{prepare, SceneArgs};
+use crate::export;
+use crate::run_dir::run_json::{Outcome, RunRecord};
+use crate::run_dir::{solution_file, write_atomic, SOLUTION_BIN};
 
 /// Options of `lopin run`.
 #[derive(Debug, Args)]
 pub struct RunArgs {
     #[command(flatten)]
     pub scene: SceneArgs,
+    #[command(flatten)]
+    pub outputs: OutputArgs,
     /// Print one JSON object on stdout instead of the table.
     #[arg(long)]
     pub json: bool,
@@ -23,7 +31,12 @@ pub struct RunArgs {
 pub fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     let start = Instant::now();
     let mut prepared = prepare(&args.scene)?;
+    let spec = &prepared.spec;
     let solver = &mut prepared.solver;
+    let mut recorder = args
+        .outputs
+        .rerun
+        .open(&spec.name, &describe("run", spec, solver, ""))?;
     let max_iter = solver.settings().max_iter as u64;
     let bar = ProgressBar::new(max_iter);
     bar.set_style(
@@ -31,27 +44,91 @@ pub fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
             .unwrap_or_else(|_| ProgressStyle::default_spinner()),
     );
     let tol = solver.settings().tol;
+    let mut record_error = None;
     let solution = solver.solve_with(None, &mut |r| {
         bar.set_position(r.iteration as u64);
         bar.set_message(format!(
             "eta = {:.3e} (tol {tol:.0e}), steps {}..{}",
             r.eta, r.window_start, r.window_end
         ));
+        if let (Some(rec), None) = (recorder.as_mut(), &record_error) {
+            record_error = rec.iteration(r).err();
+        }
         Control::Continue
     })?;
     bar.finish_and_clear();
+    if let Some(e) = record_error {
+        return Err(e.context("recording the iterations"));
+    }
+    let solve_wall = start.elapsed().as_secs_f64();
     let summary = post::summary(solver, &solution);
-    let report = RunReport::new(
-        &prepared.spec,
-        solver,
-        &solution,
-        &summary,
-        start.elapsed().as_secs_f64(),
-    );
+
+    // outputs: fields replayed once for VTU and the recording
+    let t_out = Instant::now();
+    let mut written = serde_json::Map::new();
+    let history = (args.outputs.vtu.is_some() || recorder.is_some())
+        .then(|| post::history(solver, &solution));
+    if let Some(dir) = &args.outputs.vtu {
+        let e = export::write_vtu(dir, solver, &solution, history.as_deref())?;
+        written.insert(
+            "vtu".into(),
+            serde_json::json!({"dir": dir.display().to_string(), "files": e.files, "bytes": e.bytes}),
+        );
+    }
+    if let Some(mut rec) = recorder.take() {
+        let steps = rec.solution(solver, &solution, &[], args.outputs.rerun.rerun_deform)?;
+        // closing the recording writes the file's footer: measure its size after that
+        let target = rec.close(FLUSH_TIMEOUT)?;
+        let mut entry = serde_json::json!({
+            "target": target.describe(),
+            "steps": steps.steps,
+            "von_mises_range_pa": [steps.von_mises.0, steps.von_mises.1],
+            "deform_scale": steps.deform,
+        });
+        if let crate::record::Target::File(f) = &target {
+            entry["bytes"] = serde_json::json!(std::fs::metadata(f).map_or(0, |m| m.len()));
+        }
+        written.insert("rerun".into(), entry);
+    }
+    let outputs_s = t_out.elapsed().as_secs_f64();
+
+    let mut record = RunRecord::new("run", &args.scene.scene, spec, solver);
+    record.result = Some(Outcome {
+        iterations: solution.iterations,
+        eta: solution.eta,
+        converged: solution.converged,
+        eta_history: solution.eta_history.clone(),
+    });
+    record.set_timings(solver, start.elapsed().as_secs_f64(), outputs_s);
+    if let Some(dir) = &args.outputs.out {
+        std::fs::create_dir_all(dir)?;
+        write_atomic(
+            &dir.join(SOLUTION_BIN),
+            &solution_file::encode_solution(&solution),
+        )?;
+        let mut r = record.clone();
+        r.files = vec![SOLUTION_BIN.into()];
+        r.write(dir)?;
+        written.insert("out".into(), serde_json::json!(dir.display().to_string()));
+    }
+    if let Some(dir) = &args.outputs.vtu {
+        let mut r = record.clone();
+        r.files = vec![export::PVD_NAME.into()];
+        r.write(dir)?;
+    }
+
+    let report = RunReport::new(spec, solver, &solution, &summary, solve_wall);
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&report.to_json())?);
+        let mut json = report.to_json();
+        if !written.is_empty() {
+            json["outputs"] = serde_json::Value::Object(written);
+        }
+        println!("{}", serde_json::to_string_pretty(&json)?);
     } else {
         print!("{}", report.table());
+        for (what, v) in &written {
+            println!("  {:<26} {v}", format!("output {what}"));
+        }
     }
     Ok(if solution.converged {
         ExitCode::SUCCESS

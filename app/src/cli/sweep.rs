@@ -1,6 +1,7 @@
 //! `lopin sweep`: a parametric study over one interface parameter with warm starts (METHOD §8),
 //! records written per finished value, `--resume`, a cold baseline or comparison, a table or one
-//! JSON object, and the two PNG figures.
+//! JSON object, and the two PNG figures; run.json in the sweep directory, and with `--rerun`
+//! a recording with each value's fields and its quantities on the `parameter` timeline.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -13,9 +14,12 @@ use lopin_core::sweep::{parse_values, Parameter, Predictor};
 use lopin_core::{post, Control, InterfaceState};
 use serde_json::json;
 
+use super::outputs::{describe, RerunArgs, FLUSH_TIMEOUT};
 use super::plot;
 use super::setup::{prepare, SceneArgs};
 use super::sweep_store::{state_name, ColdRecord, Header, Store, ValueRecord};
+use crate::record::Recorder;
+use crate::run_dir::run_json::RunRecord;
 
 /// Options of `lopin sweep`.
 #[derive(Debug, Args)]
@@ -48,6 +52,8 @@ pub struct SweepArgs {
     /// Print one JSON object on stdout instead of the table.
     #[arg(long)]
     pub json: bool,
+    #[command(flatten)]
+    pub rerun: RerunArgs,
 }
 
 pub fn sweep(args: &SweepArgs) -> anyhow::Result<ExitCode> {
@@ -89,6 +95,49 @@ pub fn sweep(args: &SweepArgs) -> anyhow::Result<ExitCode> {
         PathBuf::from(format!("out/sweep-{}-{}", header.scene, header.parameter))
     });
     let (store, mut records) = Store::open(&dir, &header, args.resume)?;
+    let sweep_start = Instant::now();
+    let mut run_record = RunRecord::new("sweep", &args.scene.scene, &prepared.spec, solver);
+    let write_run_json =
+        |run_record: &mut RunRecord, records: &[ValueRecord], solver: &lopin_core::Solver| {
+            run_record.sweep = Some(json!({
+                "parameter": header.parameter,
+                "values": header.values,
+                "mode": header.mode,
+                "predictor": header.predictor,
+                "finished": records.len(),
+                "total_iterations": records.iter().map(|r| r.iterations).sum::<usize>(),
+            }));
+            run_record.files = std::iter::once("sweep.json".to_string())
+                .chain(records.iter().flat_map(|r| {
+                    [
+                        super::sweep_store::record_name(r.index),
+                        r.state_file.clone(),
+                    ]
+                }))
+                .collect();
+            run_record.set_timings(solver, sweep_start.elapsed().as_secs_f64(), 0.0);
+            run_record.write(&dir)
+        };
+    write_run_json(&mut run_record, &records, solver)?;
+    let mut recorder = args.rerun.open(
+        &prepared.spec.name,
+        &describe(
+            "sweep",
+            &prepared.spec,
+            solver,
+            &format!(
+                "Sweep of `{}` over {:?} ({mode}, predictor {}). Each value is one index of the \
+                 `parameter` timeline: its fields per time step, and its quantities under `sweep/`.",
+                header.parameter, header.values, header.predictor
+            ),
+        ),
+    )?;
+    if let Some(rec) = &recorder {
+        // values finished before a resume: their quantities (their fields were not stored)
+        for r in &records {
+            log_value(rec, r)?;
+        }
+    }
     // the converged states the predictor extrapolates from (the last two)
     let mut history: Vec<(f64, InterfaceState)> = Vec::new();
     for r in records.iter().rev().take(2).rev() {
@@ -120,6 +169,7 @@ pub fn sweep(args: &SweepArgs) -> anyhow::Result<ExitCode> {
             predictor.predict(&refs, value)
         };
         let t = Instant::now();
+        let mut record_error = None;
         let sol = solver.solve_with(start_state.as_ref(), &mut |r| {
             bar.set_message(format!(
                 "{} = {value:.4}: iteration {} eta {:.2e}",
@@ -127,8 +177,14 @@ pub fn sweep(args: &SweepArgs) -> anyhow::Result<ExitCode> {
                 r.iteration,
                 r.eta
             ));
+            if let (Some(rec), None) = (recorder.as_mut(), &record_error) {
+                record_error = rec.iteration(r).err();
+            }
             Control::Continue
         })?;
+        if let Some(e) = record_error {
+            return Err(e.context("recording the iterations"));
+        }
         let wall_s = t.elapsed().as_secs_f64();
         let skipped_solves = solver.counters().skipped_solves();
         let s = post::summary(solver, &sol);
@@ -161,6 +217,15 @@ pub fn sweep(args: &SweepArgs) -> anyhow::Result<ExitCode> {
             state_file: state_name(index),
         };
         store.save(&record, &sol.state)?;
+        if let Some(rec) = recorder.as_mut() {
+            rec.solution(
+                solver,
+                &sol,
+                &[("parameter", index as i64)],
+                args.rerun.rerun_deform,
+            )?;
+            log_value(rec, &record)?;
+        }
         if !sol.converged {
             bar.println(format!(
                 "warning: {} = {value}: not converged after {} iterations (eta {:.3e})",
@@ -170,6 +235,7 @@ pub fn sweep(args: &SweepArgs) -> anyhow::Result<ExitCode> {
             ));
         }
         records.push(record);
+        write_run_json(&mut run_record, &records, solver)?;
         history.push((value, sol.state));
         if history.len() > 2 {
             history.remove(0);
@@ -177,6 +243,11 @@ pub fn sweep(args: &SweepArgs) -> anyhow::Result<ExitCode> {
         bar.inc(1);
     }
     bar.finish_and_clear();
+    write_run_json(&mut run_record, &records, solver)?;
+    if let Some(rec) = recorder.take() {
+        let target = rec.close(FLUSH_TIMEOUT)?;
+        eprintln!("recording: {}", target.describe());
+    }
     plot::convergence(&store.path("convergence.png"), &records, parameter.name())?;
     plot::quantities(&store.path("quantities.png"), &records, parameter.name())?;
     let total: usize = records.iter().map(|r| r.iterations).sum();
@@ -259,6 +330,21 @@ pub fn sweep(args: &SweepArgs) -> anyhow::Result<ExitCode> {
     } else {
         ExitCode::from(1)
     })
+}
+
+/// The quantities of one finished value on the `parameter` timeline.
+fn log_value(rec: &Recorder, r: &ValueRecord) -> anyhow::Result<()> {
+    rec.parameter(
+        r.index,
+        &[
+            (r.parameter.as_str(), r.value),
+            ("iterations", r.iterations as f64),
+            ("eta", r.eta),
+            ("peak_normal_force", r.peak_normal_force),
+            ("max_slip", r.max_slip),
+            ("energy_end", r.energy_end),
+        ],
+    )
 }
 
 /// A parameter value for the table: fixed point in the usual range, exponent otherwise.

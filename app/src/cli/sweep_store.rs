@@ -6,8 +6,9 @@
 use std::fs;
 use std::path::{Path, PathBuf};
 
+use crate::run_dir::solution_file::{decode_state, encode_state};
 use anyhow::{bail, Context};
-use lopin_core::state::{InterfaceState, TraceHistory};
+use lopin_core::state::InterfaceState;
 use serde::{Deserialize, Serialize};
 
 /// What a sweep is: a resumed sweep must ask for exactly the same.
@@ -144,10 +145,7 @@ impl Store {
     }
 
     fn write_atomic(&self, name: &str, bytes: &[u8]) -> anyhow::Result<()> {
-        let tmp = self.dir.join(format!(".{name}.tmp"));
-        let dst = self.dir.join(name);
-        fs::write(&tmp, bytes).with_context(|| format!("writing {}", tmp.display()))?;
-        fs::rename(&tmp, &dst).with_context(|| format!("renaming to {}", dst.display()))
+        crate::run_dir::write_atomic(&self.dir.join(name), bytes)
     }
 }
 
@@ -157,75 +155,4 @@ pub fn record_name(i: usize) -> String {
 
 pub fn state_name(i: usize) -> String {
     format!("value-{i:03}.state")
-}
-
-const MAGIC: &[u8; 8] = b"LOPINST1";
-
-fn encode_state(s: &InterfaceState) -> Vec<u8> {
-    let mut b = Vec::with_capacity(24 + 16 * s.size());
-    b.extend_from_slice(MAGIC);
-    b.extend_from_slice(&(s.steps as u64).to_le_bytes());
-    b.extend_from_slice(&(s.subs.len() as u64).to_le_bytes());
-    for h in &s.subs {
-        b.extend_from_slice(&(h.len as u64).to_le_bytes());
-    }
-    for h in &s.subs {
-        for x in h.f.iter().chain(&h.w) {
-            b.extend_from_slice(&x.to_le_bytes());
-        }
-    }
-    b
-}
-
-fn decode_state(b: &[u8]) -> anyhow::Result<InterfaceState> {
-    let mut pos = 0;
-    let mut take = |n: usize| -> anyhow::Result<&[u8]> {
-        let s = b
-            .get(pos..pos + n)
-            .ok_or_else(|| anyhow::anyhow!("truncated at byte {pos}"))?;
-        pos += n;
-        Ok(s)
-    };
-    if take(8)? != MAGIC {
-        bail!("bad magic");
-    }
-    let word = |s: &[u8]| u64::from_le_bytes(s.try_into().unwrap_or([0; 8])) as usize;
-    let steps = word(take(8)?);
-    let nsubs = word(take(8)?);
-    let lens: Vec<usize> = (0..nsubs)
-        .map(|_| take(8).map(word))
-        .collect::<anyhow::Result<_>>()?;
-    let mut subs = Vec::with_capacity(nsubs);
-    for len in lens {
-        let count = len * (steps + 1);
-        let mut read = || -> anyhow::Result<Vec<f64>> {
-            (0..count)
-                .map(|_| take(8).map(|s| f64::from_le_bytes(s.try_into().unwrap_or([0; 8]))))
-                .collect()
-        };
-        let f = read()?;
-        let w = read()?;
-        subs.push(TraceHistory { len, f, w });
-    }
-    Ok(InterfaceState { steps, subs })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn state_round_trips_and_truncation_is_an_error() {
-        let s = InterfaceState {
-            steps: 2,
-            subs: vec![TraceHistory {
-                len: 1,
-                f: vec![0.0, 1.5, -2.0],
-                w: vec![3.0, 4.0, 5e-300],
-            }],
-        };
-        let b = encode_state(&s);
-        assert_eq!(decode_state(&b).expect("decodes"), s);
-        assert!(decode_state(&b[..b.len() - 1]).is_err());
-    }
 }

@@ -1,4 +1,6 @@
-//! `lopin view` (and `lopin` alone): opens the desktop explorer.
+//! `lopin view` (and `lopin` alone): opens the desktop explorer. Its "record to Rerun" toggle
+//! saves to `--rerun FILE` or streams to `--rerun-connect ADDR` (default: a file
+//! `lopin-SCENE-UNIXTIME.rrd` in the current folder).
 
 use clap::Args;
 use std::path::PathBuf;
@@ -16,6 +18,15 @@ pub struct ViewArgs {
     /// Hide wall-clock figures (timings, frame rate) so screenshots are reproducible.
     #[arg(long)]
     pub reproducible: bool,
+    /// Where "record to Rerun" saves: FILE.rrd.
+    #[arg(long, value_name = "FILE.rrd")]
+    pub rerun: Option<PathBuf>,
+    /// Where "record to Rerun" streams: a running Rerun viewer at ADDR (HOST:PORT).
+    #[arg(long, value_name = "ADDR", conflicts_with = "rerun")]
+    pub rerun_connect: Option<String>,
+    /// Start with "record to Rerun" switched on.
+    #[arg(long)]
+    pub record: bool,
 }
 
 impl Default for ViewArgs {
@@ -24,7 +35,31 @@ impl Default for ViewArgs {
             scene: "two-blocks".into(),
             measure: None,
             reproducible: false,
+            rerun: None,
+            rerun_connect: None,
+            record: false,
         }
+    }
+}
+
+/// The recorder factory of this build (none without the `rerun` feature).
+fn recorder(args: &ViewArgs) -> anyhow::Result<Option<lopin_explorer::RecorderFactory>> {
+    let connect = args
+        .rerun_connect
+        .as_deref()
+        .map(crate::record::Target::connect)
+        .transpose()?;
+    if cfg!(feature = "rerun") {
+        Ok(Some(crate::record::explorer::factory(
+            args.rerun.clone(),
+            connect,
+        )))
+    } else {
+        anyhow::ensure!(
+            args.rerun.is_none() && connect.is_none() && !args.record,
+            "recording needs a lopin built with the `rerun` feature"
+        );
+        Ok(None)
     }
 }
 
@@ -34,6 +69,8 @@ pub fn view(args: &ViewArgs) -> anyhow::Result<std::process::ExitCode> {
         scene: args.scene.clone(),
         reproducible: args.reproducible,
         measure: args.measure.clone(),
+        recorder: recorder(args)?,
+        record: args.record,
     })?;
     Ok(std::process::ExitCode::SUCCESS)
 }

@@ -1,0 +1,92 @@
+//! `lopin export RUN_DIR`: VTU files and/or a Rerun recording from a run saved with
+//! `lopin run --out RUN_DIR`, without solving again: the solver is rebuilt from run.json and
+//! the fields are replayed from the stored ŝ (METHOD §6 "at convergence").
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use anyhow::Context;
+use clap::Args;
+use lopin_core::counters::Instant;
+
+use super::outputs::{describe, RerunArgs, FLUSH_TIMEOUT};
+use crate::export;
+use crate::run_dir::run_json::RunRecord;
+use crate::run_dir::{solution_file, SOLUTION_BIN};
+
+/// Options of `lopin export`.
+#[derive(Debug, Args)]
+pub struct ExportArgs {
+    /// A run directory (made by `lopin run --out DIR`).
+    pub run: PathBuf,
+    /// Write one VTU file per substructure and time step, and run.pvd, to DIR.
+    #[arg(long, value_name = "DIR")]
+    pub vtu: Option<PathBuf>,
+    #[command(flatten)]
+    pub rerun: RerunArgs,
+}
+
+pub fn export_cmd(args: &ExportArgs) -> anyhow::Result<ExitCode> {
+    let rerun_target = args.rerun.target()?;
+    anyhow::ensure!(
+        args.vtu.is_some() || rerun_target.is_some(),
+        "nothing to export: give --vtu DIR, --rerun FILE.rrd or --rerun-connect ADDR"
+    );
+    let start = Instant::now();
+    let record = RunRecord::read(&args.run)?;
+    anyhow::ensure!(
+        record.kind == "run",
+        "{}: run.json describes a {}, not a run (export works on `lopin run --out` directories)",
+        args.run.display(),
+        record.kind
+    );
+    let mut solution = solution_file::read_solution(&args.run.join(SOLUTION_BIN))?;
+    let solver = record.solver()?;
+    solution
+        .state
+        .check_fits(solver.problem())
+        .with_context(|| format!("{}: does not fit run.json's scene", SOLUTION_BIN))?;
+    anyhow::ensure!(
+        solution.hats.len() == solver.problem().interfaces.len(),
+        "{}: {} interfaces stored, the scene has {}",
+        SOLUTION_BIN,
+        solution.hats.len(),
+        solver.problem().interfaces.len()
+    );
+    if let Some(o) = &record.result {
+        solution.eta_history.clone_from(&o.eta_history);
+    }
+    let history = lopin_core::post::history(&solver, &solution);
+    if let Some(dir) = &args.vtu {
+        let e = export::write_vtu(dir, &solver, &solution, Some(&history))?;
+        let mut r = record.clone();
+        r.files = vec![export::PVD_NAME.into()];
+        r.write(dir)?;
+        println!(
+            "vtu: {} files, {} bytes, in {}",
+            e.files,
+            e.bytes,
+            dir.display()
+        );
+    }
+    if rerun_target.is_some() {
+        let extra = format!(
+            "Exported from the run saved in `{}` (made by `{}`).",
+            args.run.display(),
+            record.command.join(" ")
+        );
+        if let Some(mut rec) = args.rerun.open(
+            &record.scene.name,
+            &describe("run", &record.scene, &solver, &extra),
+        )? {
+            for &eta in &solution.eta_history {
+                rec.eta(eta, None)?;
+            }
+            let steps = rec.solution(&solver, &solution, &[], args.rerun.rerun_deform)?;
+            let target = rec.close(FLUSH_TIMEOUT)?;
+            println!("rerun: {} steps to {}", steps.steps, target.describe());
+        }
+    }
+    println!("exported in {:.2} s", start.elapsed().as_secs_f64());
+    Ok(ExitCode::SUCCESS)
+}

@@ -1,0 +1,90 @@
+//! One substructure at one time step as a VTK XML unstructured grid (.vtu, written by the vtkio
+//! crate): linear hexahedra (Lopin's Hex8 node order is VTK_HEXAHEDRON's), point data
+//! `displacement` and `velocity` (m, m/s), cell data `von_mises` (Pa), `stress` (Cauchy tensor
+//! at the element centre, 9 components, Pa; METHOD §2 Hex8), `substructure` and `material` ids.
+
+use anyhow::Context;
+use lopin_core::hex8;
+use lopin_core::mesh::Element;
+use lopin_core::post::{self, SubFields};
+use lopin_core::Solver;
+use std::path::Path;
+use vtkio::model::{
+    Attribute, Attributes, ByteOrder, CellType, Cells, DataArray, DataSet, UnstructuredGridPiece,
+    Version, VertexNumbers, Vtk,
+};
+
+/// Point and cell field names, in file order.
+pub const POINT_FIELDS: [&str; 2] = ["displacement", "velocity"];
+/// Cell field names, in file order.
+pub const CELL_FIELDS: [&str; 4] = ["von_mises", "stress", "substructure", "material"];
+
+/// The grid of substructure `i` with fields `f`.
+pub fn grid(solver: &Solver, i: usize, f: &SubFields, title: String) -> Vtk {
+    let sub = &solver.problem().subs[i];
+    let mesh = &sub.mesh;
+    let points: Vec<f64> = mesh.nodes.iter().flatten().copied().collect();
+    let mut connectivity = Vec::with_capacity(8 * mesh.elements.len());
+    let mut offsets = Vec::with_capacity(mesh.elements.len());
+    for e in &mesh.elements {
+        match e {
+            Element::Hex8(nodes) => connectivity.extend(nodes.iter().map(|&n| n as u64)),
+        }
+        offsets.push(connectivity.len() as u64);
+    }
+    let stress = post::element_stress(solver, i, &f.u);
+    let von_mises: Vec<f64> = stress.iter().map(hex8::von_mises).collect();
+    let tensors: Vec<f64> = stress
+        .iter()
+        .flat_map(|&[xx, yy, zz, xy, yz, zx]| [xx, xy, zx, xy, yy, yz, zx, yz, zz])
+        .collect();
+    let cells = mesh.elements.len();
+    let data = Attributes {
+        point: vec![
+            Attribute::DataArray(DataArray::vectors(POINT_FIELDS[0]).with_data(f.u.clone())),
+            Attribute::DataArray(DataArray::vectors(POINT_FIELDS[1]).with_data(f.v.clone())),
+        ],
+        cell: vec![
+            Attribute::DataArray(DataArray::scalars(CELL_FIELDS[0], 1).with_data(von_mises)),
+            Attribute::DataArray(DataArray::tensors(CELL_FIELDS[1]).with_data(tensors)),
+            Attribute::DataArray(
+                DataArray::scalars(CELL_FIELDS[2], 1).with_data(vec![i as i32; cells]),
+            ),
+            Attribute::DataArray(DataArray::scalars(CELL_FIELDS[3], 1).with_data(vec![
+                sub.material_id
+                    as i32;
+                cells
+            ])),
+        ],
+    };
+    Vtk {
+        version: Version::new((1, 0)),
+        title,
+        byte_order: ByteOrder::LittleEndian,
+        file_path: None,
+        data: DataSet::inline(UnstructuredGridPiece {
+            points: points.into(),
+            cells: Cells {
+                cell_verts: VertexNumbers::XML {
+                    connectivity,
+                    offsets,
+                },
+                types: vec![CellType::Hexahedron; cells],
+            },
+            data,
+        }),
+    }
+}
+
+/// Writes the grid of substructure `i` with fields `f` to `path` (.vtu).
+pub fn write(solver: &Solver, i: usize, f: &SubFields, path: &Path) -> anyhow::Result<()> {
+    let title = format!(
+        "Lopin {} {}",
+        solver.problem().name,
+        solver.problem().subs[i].name
+    );
+    grid(solver, i, f, title)
+        .export(path)
+        .map_err(|e| anyhow::anyhow!("{e:?}"))
+        .with_context(|| format!("writing {}", path.display()))
+}

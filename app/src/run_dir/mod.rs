@@ -1,0 +1,21 @@
+//! What a run or sweep directory holds besides its results: `run.json` (how it was made,
+//! [`run_json`]) and the binary interface fields ([`solution_file`]).
+
+pub mod run_json;
+pub mod solution_file;
+
+use anyhow::Context;
+use std::path::Path;
+
+/// File name of a run's converged solution.
+pub const SOLUTION_BIN: &str = "solution.bin";
+
+/// Writes `path` through a temporary file and a rename, so a reader never sees half a file.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
+    let name = path
+        .file_name()
+        .map_or("out".into(), |n| n.to_string_lossy().into_owned());
+    let tmp = path.with_file_name(format!(".{name}.tmp"));
+    std::fs::write(&tmp, bytes).with_context(|| format!("writing {}", tmp.display()))?;
+    std::fs::rename(&tmp, path).with_context(|| format!("renaming to {}", path.display()))
+}
