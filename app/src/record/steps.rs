@@ -100,11 +100,16 @@ pub fn log(
         "colormap",
         &rerun::TextDocument::from_markdown(format!(
             "Surfaces: von Mises stress, viridis, {:.4} MPa (dark) to {:.4} MPa (bright), one range over the run. \
-             Displacements drawn ×{scale:.4e}. Velocity arrows: 1 m/s drawn {arrow_scale:.4e} m long, every {stride}th node. \
+             Displacements drawn ×{scale:.4e}. Velocity arrows: 1 m/s drawn {arrow_scale:.4e} m long, {every}. \
              Contact points: pressure, 0 (dark) to {:.4} MPa (bright).",
             vm_range.0 * 1e-6,
             vm_range.1 * 1e-6,
-            pressure_max * 1e-6
+            pressure_max * 1e-6,
+            every = if stride == 1 {
+                "at every node".to_string()
+            } else {
+                format!("at one node in {stride}")
+            }
         )),
     )?;
     for m in 0..=p.time.steps {
