@@ -9,7 +9,7 @@ mod readers;
 
 use lopin_app::record::entity_name;
 use lopin_core::{hex8, post, scene, Settings, Solver};
-use readers::{lopin, read_rrd, read_vtu, scratch};
+use readers::{free_port, lopin, read_rrd, read_vtu, scratch};
 
 /// two-blocks solved here, as the binary solves it.
 fn reference() -> (Solver, Vec<Vec<post::SubFields>>) {
@@ -230,17 +230,12 @@ fn check_recording(printed: &str, p: &lopin_core::Problem, steps: usize, iterati
 #[test]
 fn rerun_connect_streams_the_same_recording_to_a_viewer_on_loopback() {
     let dir = scratch("rerun-connect");
-    let port = std::net::TcpListener::bind("127.0.0.1:0")
-        .and_then(|l| l.local_addr())
-        .expect("free port")
-        .port();
+    let port = free_port();
     let saved = dir.join("received.rrd");
     // the rerun tool as a server that saves what it receives
-    let mut server = std::process::Command::new(readers::rerun())
+    let mut server = readers::rerun_cmd(&dir)
         .args(["--bind", "127.0.0.1", "--port", &port.to_string(), "--save"])
         .arg(&saved)
-        .env("XDG_CONFIG_HOME", dir.join("config"))
-        .env("XDG_DATA_HOME", dir.join("data"))
         .stdout(std::process::Stdio::null())
         .stderr(std::process::Stdio::null())
         .spawn()
@@ -273,23 +268,11 @@ fn rerun_connect_streams_the_same_recording_to_a_viewer_on_loopback() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let report: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
     // a streamed file has no footer (the server was stopped), so it is printed, not verified
-    let home = dir.join("home");
-    let printed = std::process::Command::new(readers::rerun())
-        .args(["rrd", "print", "-vv"])
-        .arg(&saved)
-        .env("XDG_CONFIG_HOME", home.join("config"))
-        .env("XDG_DATA_HOME", home.join("data"))
-        .output()
-        .expect("rerun rrd print");
-    assert!(
-        printed.status.success(),
-        "{}",
-        String::from_utf8_lossy(&printed.stderr)
-    );
+    let printed = readers::print_rrd(&saved);
     let (solver, _) = reference();
     let p = solver.problem();
     check_recording(
-        &String::from_utf8_lossy(&printed.stdout),
+        &printed,
         p,
         p.time.steps + 1,
         report["iterations"].as_u64().expect("iterations"),
@@ -359,10 +342,7 @@ fn a_sweep_records_each_value_on_the_parameter_timeline_and_writes_run_json() {
 fn bad_outputs_and_run_directories_get_clear_errors() {
     let dir = scratch("export-errors");
     // a viewer address where nothing listens: refused at once, before solving
-    let port = std::net::TcpListener::bind("127.0.0.1:0")
-        .and_then(|l| l.local_addr())
-        .expect("free port")
-        .port();
+    let port = free_port();
     let o = lopin()
         .args(["run", "two-blocks", "--rerun-connect"])
         .arg(format!("127.0.0.1:{port}"))

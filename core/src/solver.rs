@@ -22,7 +22,7 @@ use crate::state::{InterfaceState, TraceHistory};
 use crate::substructure::Substructure;
 
 /// Solver settings (METHOD §10 defaults: k = mean √(ρE), μ = 0.8, tol = 1e-3).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Settings {
     /// Search direction k (Pa·s/m). Changing it refactorizes.
     pub k: f64,

@@ -58,7 +58,7 @@ pub fn export_cmd(args: &ExportArgs) -> anyhow::Result<ExitCode> {
     }
     let history = lopin_core::post::history(&solver, &solution);
     if let Some(dir) = &args.vtu {
-        let e = export::write_vtu(dir, &solver, &solution, Some(&history))?;
+        let e = export::write_vtu(dir, &solver, &history)?;
         let mut r = record.clone();
         r.files = vec![export::PVD_NAME.into()];
         r.write(dir)?;
@@ -82,7 +82,7 @@ pub fn export_cmd(args: &ExportArgs) -> anyhow::Result<ExitCode> {
             for &eta in &solution.eta_history {
                 rec.eta(eta, None)?;
             }
-            let steps = rec.solution(&solver, &solution, &[], args.rerun.rerun_deform)?;
+            let steps = rec.solution(&solver, &solution, &history, &[], args.rerun.rerun_deform)?;
             let target = rec.close(FLUSH_TIMEOUT)?;
             println!("rerun: {} steps to {}", steps.steps, target.describe());
         }

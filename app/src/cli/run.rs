@@ -66,17 +66,26 @@ pub fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     // outputs: fields replayed once for VTU and the recording
     let t_out = Instant::now();
     let mut written = serde_json::Map::new();
-    let history = (args.outputs.vtu.is_some() || recorder.is_some())
-        .then(|| post::history(solver, &solution));
+    let history = if args.outputs.vtu.is_some() || recorder.is_some() {
+        post::history(solver, &solution)
+    } else {
+        Vec::new()
+    };
     if let Some(dir) = &args.outputs.vtu {
-        let e = export::write_vtu(dir, solver, &solution, history.as_deref())?;
+        let e = export::write_vtu(dir, solver, &history)?;
         written.insert(
             "vtu".into(),
             serde_json::json!({"dir": dir.display().to_string(), "files": e.files, "bytes": e.bytes}),
         );
     }
     if let Some(mut rec) = recorder.take() {
-        let steps = rec.solution(solver, &solution, &[], args.outputs.rerun.rerun_deform)?;
+        let steps = rec.solution(
+            solver,
+            &solution,
+            &history,
+            &[],
+            args.outputs.rerun.rerun_deform,
+        )?;
         // closing the recording writes the file's footer: measure its size after that
         let target = rec.close(FLUSH_TIMEOUT)?;
         let mut entry = serde_json::json!({

@@ -221,6 +221,7 @@ pub fn sweep(args: &SweepArgs) -> anyhow::Result<ExitCode> {
             rec.solution(
                 solver,
                 &sol,
+                &post::history(solver, &sol),
                 &[("parameter", index as i64)],
                 args.rerun.rerun_deform,
             )?;

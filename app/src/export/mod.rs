@@ -7,7 +7,7 @@ pub mod vtu;
 
 use crate::record::entity_name;
 use lopin_core::post::SubFields;
-use lopin_core::{Solution, Solver};
+use lopin_core::Solver;
 use std::path::Path;
 
 /// Name of the collection file.
@@ -23,23 +23,14 @@ pub struct VtuExport {
 }
 
 /// Writes `dir/<substructure>_<step>.vtu` for every substructure and step m = 0..=N, and
-/// `dir/run.pvd`. `history` is [`lopin_core::post::history`] of `sol` (computed here if None).
+/// `dir/run.pvd`; `history` is [`lopin_core::post::history`] of the solution.
 pub fn write_vtu(
     dir: &Path,
     solver: &Solver,
-    sol: &Solution,
-    history: Option<&[Vec<SubFields>]>,
+    history: &[Vec<SubFields>],
 ) -> anyhow::Result<VtuExport> {
     use anyhow::Context;
     std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
-    let owned;
-    let history = match history {
-        Some(h) => h,
-        None => {
-            owned = lopin_core::post::history(solver, sol);
-            &owned
-        }
-    };
     let p = solver.problem();
     let mut entries = Vec::new();
     let mut bytes = 0;

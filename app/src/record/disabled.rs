@@ -4,6 +4,7 @@
 use super::target::Target;
 use super::StepsSummary;
 use lopin_core::counters::IterationRecord;
+use lopin_core::post::SubFields;
 use lopin_core::{Solution, Solver};
 use std::time::Duration;
 
@@ -39,6 +40,7 @@ impl Recorder {
         &mut self,
         _solver: &Solver,
         _sol: &Solution,
+        _history: &[Vec<SubFields>],
         _context: &[(&'static str, i64)],
         _deform: Option<f64>,
     ) -> anyhow::Result<StepsSummary> {
@@ -55,9 +57,5 @@ impl Recorder {
 
     pub fn close(self, _timeout: Duration) -> anyhow::Result<Target> {
         match self {}
-    }
-
-    pub fn finish(&self, _timeout: Duration) -> anyhow::Result<()> {
-        match *self {}
     }
 }

@@ -93,8 +93,13 @@ impl SolveRecorder for ExplorerRecorder {
             values.extend(p.gap.map(|g| ("gap", g)));
             values.extend(p.velocity.map(|v| ("v0", v)));
             self.rec.solve_parameters(index, &values)?;
-            self.rec
-                .solution(s.solver, s.solution, &[("solve", index)], None)?;
+            self.rec.solution(
+                s.solver,
+                s.solution,
+                &lopin_core::post::history(s.solver, s.solution),
+                &[("solve", index)],
+                None,
+            )?;
             self.solves += 1;
             Ok(())
         };

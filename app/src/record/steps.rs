@@ -22,17 +22,17 @@ fn set_context(rec: &rerun::RecordingStream, context: &[(&'static str, i64)]) {
     }
 }
 
-/// Logs every step of `sol`; the surfaces' triangles are logged (static) when `topology`.
+/// Logs every step of `sol` (`history`: [`post::history`] of it); the surfaces' triangles are logged (static) when `topology`.
 pub fn log(
     rec: &rerun::RecordingStream,
     solver: &Solver,
     sol: &Solution,
+    history: &[Vec<post::SubFields>],
     context: &[(&'static str, i64)],
     deform: Option<f64>,
     topology: bool,
 ) -> anyhow::Result<StepsSummary> {
     let p = solver.problem();
-    let history = post::history(solver, sol);
     let surfaces: Vec<Surface> = p.subs.iter().map(|s| Surface::of(&s.mesh)).collect();
     let von_mises: Vec<Vec<Vec<f64>>> = history
         .iter()

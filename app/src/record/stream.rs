@@ -11,6 +11,7 @@ use super::target::Target;
 use super::StepsSummary;
 use anyhow::Context;
 use lopin_core::counters::IterationRecord;
+use lopin_core::post::SubFields;
 use lopin_core::{Solution, Solver};
 use std::time::Duration;
 
@@ -79,18 +80,27 @@ impl Recorder {
         Ok(())
     }
 
-    /// Logs every time step of a converged solution; `context` timelines (e.g. `parameter`,
+    /// Logs every time step of a converged solution (`history`: `post::history` of it); `context` timelines (e.g. `parameter`,
     /// `solve`) are set on every row. Returns the colour range and scales used.
     pub fn solution(
         &mut self,
         solver: &Solver,
         sol: &Solution,
+        history: &[Vec<SubFields>],
         context: &[(&'static str, i64)],
         deform: Option<f64>,
     ) -> anyhow::Result<StepsSummary> {
         let name = solver.problem().name.clone();
         let log_topology = self.topology.as_deref() != Some(name.as_str());
-        let out = steps::log(&self.rec, solver, sol, context, deform, log_topology)?;
+        let out = steps::log(
+            &self.rec,
+            solver,
+            sol,
+            history,
+            context,
+            deform,
+            log_topology,
+        )?;
         self.topology = Some(name);
         Ok(out)
     }
@@ -122,16 +132,10 @@ impl Recorder {
     /// Flushes and closes the recording (a file is complete when this returns); returns where
     /// it went.
     pub fn close(self, timeout: Duration) -> anyhow::Result<Target> {
-        self.finish(timeout)?;
         let Recorder { rec, target, .. } = self;
+        rec.flush_with_timeout(timeout)
+            .map_err(|e| anyhow::anyhow!("rerun: flushing to {}: {e}", target.describe()))?;
         drop(rec);
         Ok(target)
-    }
-
-    /// Flushes everything to the file or viewer (at most `timeout`).
-    pub fn finish(&self, timeout: Duration) -> anyhow::Result<()> {
-        self.rec
-            .flush_with_timeout(timeout)
-            .map_err(|e| anyhow::anyhow!("rerun: flushing to {}: {e}", self.target.describe()))
     }
 }

@@ -20,50 +20,6 @@ pub struct Provenance {
     pub commit: String,
 }
 
-/// The LATIN settings (all of [`Settings`]).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct SettingsRecord {
-    pub k: f64,
-    pub mu: f64,
-    pub tol: f64,
-    pub max_iter: usize,
-    pub window: Option<usize>,
-    pub skip_unchanged: bool,
-    pub hold_window_start: bool,
-    pub per_step_window_norm: bool,
-}
-
-impl From<&Settings> for SettingsRecord {
-    fn from(s: &Settings) -> Self {
-        SettingsRecord {
-            k: s.k,
-            mu: s.mu,
-            tol: s.tol,
-            max_iter: s.max_iter,
-            window: s.window,
-            skip_unchanged: s.skip_unchanged,
-            hold_window_start: s.hold_window_start,
-            per_step_window_norm: s.per_step_window_norm,
-        }
-    }
-}
-
-impl SettingsRecord {
-    /// Back to solver settings.
-    pub fn settings(&self) -> Settings {
-        Settings {
-            k: self.k,
-            mu: self.mu,
-            tol: self.tol,
-            max_iter: self.max_iter,
-            window: self.window,
-            skip_unchanged: self.skip_unchanged,
-            hold_window_start: self.hold_window_start,
-            per_step_window_norm: self.per_step_window_norm,
-        }
-    }
-}
-
 /// Sizes of the built problem.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ProblemFacts {
@@ -122,7 +78,8 @@ pub struct RunRecord {
     pub scene_source: String,
     /// The resolved scene.
     pub scene: SceneSpec,
-    pub settings: SettingsRecord,
+    /// All LATIN settings.
+    pub settings: Settings,
     pub problem: ProblemFacts,
     pub timings_s: Timings,
     /// A run's outcome.
@@ -151,7 +108,7 @@ impl RunRecord {
                 .map_or(0, |d| d.as_secs()),
             scene_source: scene_source.into(),
             scene: spec.clone(),
-            settings: solver.settings().into(),
+            settings: *solver.settings(),
             problem: ProblemFacts::of(solver.problem()),
             timings_s: Timings::default(),
             result: None,
@@ -207,6 +164,6 @@ impl RunRecord {
             "run.json: the scene rebuilds to {facts:?}, the run had {:?}",
             self.problem
         );
-        Ok(Solver::new(problem, self.settings.settings())?)
+        Ok(Solver::new(problem, self.settings)?)
     }
 }

@@ -23,6 +23,14 @@ pub fn lopin() -> Command {
     Command::new(env!("CARGO_BIN_EXE_lopin"))
 }
 
+/// A loopback port where nothing listens (bound, then released).
+pub fn free_port() -> u16 {
+    std::net::TcpListener::bind("127.0.0.1:0")
+        .and_then(|l| l.local_addr())
+        .expect("a free port")
+        .port()
+}
+
 /// A fresh scratch folder for one test.
 pub fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("lopin-{name}-{}", std::process::id()));
@@ -58,8 +66,8 @@ pub fn read_vtu(pvd: &Path, node: usize, cell: usize) -> serde_json::Value {
     serde_json::from_str(&text).expect("the reader prints JSON")
 }
 
-/// The `rerun` tool's environment: scratch config and data folders, analytics off.
-fn rerun_cmd(home: &Path) -> Command {
+/// The `rerun` tool with scratch config and data folders under `home`.
+pub fn rerun_cmd(home: &Path) -> Command {
     let mut c = Command::new(rerun());
     c.env("XDG_CONFIG_HOME", home.join("config"))
         .env("XDG_DATA_HOME", home.join("data"));
@@ -132,6 +140,15 @@ pub fn entities(printed: &str) -> std::collections::BTreeMap<String, EntityChunk
     out
 }
 
+/// `rerun rrd print -vv FILE`: a recording's content, chunk by chunk.
+pub fn print_rrd(file: &Path) -> String {
+    let home = file.with_extension("rerun-home");
+    run(
+        rerun_cmd(&home).args(["rrd", "print", "-vv"]).arg(file),
+        "rerun rrd print",
+    )
+}
+
 /// `rerun rrd verify FILE` passes, and `rerun rrd print -vv FILE` gives its content.
 pub fn read_rrd(file: &Path) -> String {
     let home = file.with_extension("rerun-home");
@@ -143,8 +160,5 @@ pub fn read_rrd(file: &Path) -> String {
         rerun_cmd(&home).args(["rrd", "verify"]).arg(file),
         "rerun rrd verify",
     );
-    run(
-        rerun_cmd(&home).args(["rrd", "print", "-vv"]).arg(file),
-        "rerun rrd print",
-    )
+    print_rrd(file)
 }
