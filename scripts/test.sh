@@ -2,7 +2,8 @@
 # The whole test suite, from a fresh Debian machine: installs the software Vulkan driver and Xvfb
 # the explorer's tests need and the independent readers the export tests check files with
 # (meshio, the rerun tool), runs every test in an optimized build, then starts the real
-# explorer in a window under Xvfb and checks its 3D view is drawn.
+# explorer in a window under Xvfb and checks its 3D view is drawn, and finally builds the web
+# explorer (WebAssembly, dist/) and drives it in headless Chromium (scripts/test-web.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ./scripts/install-gui-deps.sh
@@ -12,3 +13,4 @@ export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-$(mktemp -d)}"
 chmod 700 "$XDG_RUNTIME_DIR"
 cargo test --release --workspace
 ./scripts/explorer-xvfb.sh smoke
+./scripts/test-web.sh

@@ -41,5 +41,5 @@ pub mod time_function;
 
 pub use error::{LopinError, Result};
 pub use problem::Problem;
-pub use solver::{Control, Iterate, Settings, Solution, Solver};
+pub use solver::{Control, Iterate, Settings, Solution, SolveRun, Solver};
 pub use state::InterfaceState;

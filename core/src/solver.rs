@@ -1,25 +1,21 @@
 //! The LATIN solver: the one entry point of the engine. [`Solver::new`] factorizes every
-//! substructure operator S once (METHOD §4, §11); [`Solver::solve_with`] iterates
-//!
-//! 1. local stage (E+, METHOD §5) on every interface, in parallel, contact sequential in time;
-//! 2. linear stage (E−, METHOD §4) on every substructure, in parallel, over the time window;
-//! 3. error indicator η from the unrelaxed linear-stage output and ŝ (METHOD §6);
-//! 4. relaxation s ← μ s_new + (1 − μ) s, with μ = 1 at the first iteration (METHOD §6);
-//!
-//! until η < tol, window after window (METHOD §7; one window = the non-incremental method), from a
-//! cold start or from a given interface state (warm start, METHOD §8).
+//! substructure operator S once (METHOD §4, §11); [`Solver::solve_with`] iterates (one iteration
+//! is [`Solver::step`], see [`run`]) until η < tol, window after window (METHOD §7; one window =
+//! the non-incremental method), from a cold start or from a given interface state (warm start,
+//! METHOD §8). [`Solver::begin`] / [`Solver::step`] / [`Solver::finish`] let a caller without
+//! threads advance a solve a few iterations at a time.
+
+mod run;
+pub use run::SolveRun;
 
 use crate::counters::{Counters, Instant, IterationRecord};
 use crate::error::{LopinError, Result};
 use crate::factor::CholeskyFactor;
-use crate::interface::Law;
-use crate::linear_stage::{linear_stage, IndicatorSums, LinearInput, LinearWork, SubState};
-use crate::local_stage::{local_stage, ContactRunning, LocalInput};
+use crate::linear_stage::{IndicatorSums, LinearWork, SubState};
 use crate::par;
 use crate::problem::Problem;
 use crate::scene::spec::SolverSpec;
 use crate::state::{InterfaceState, TraceHistory};
-use crate::substructure::Substructure;
 
 /// Solver settings (METHOD §10 defaults: k = mean √(ρE), μ = 0.8, tol = 1e-3).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -308,247 +304,10 @@ impl Solver {
         start: Option<&InterfaceState>,
         observer: &mut dyn FnMut(&Iterate<'_>) -> Control,
     ) -> Result<Solution> {
-        let p = &self.problem;
-        let set = self.settings;
-        let n = p.time.steps;
-        self.counters.reset_solve();
-        let initial = InterfaceState::cold(p);
-        let mut s = match start {
-            Some(st) => {
-                st.check_fits(p)?;
-                let mut s = st.clone();
-                // m = 0 is the given initial state, never iterated (METHOD §1)
-                for (h, h0) in s.subs.iter_mut().zip(&initial.subs) {
-                    let r = h.at(0);
-                    h.f[r.clone()].copy_from_slice(&h0.f[r.clone()]);
-                    h.w[r.clone()].copy_from_slice(&h0.w[r]);
-                }
-                s
-            }
-            None => initial,
-        };
-        let mut s_new = s.clone();
-        let mut hats: Vec<Vec<TraceHistory>> = p
-            .interfaces
-            .iter()
-            .map(|i| {
-                i.sides
-                    .iter()
-                    .map(|side| {
-                        let mut h = TraceHistory::zeros(i.len, n);
-                        let src = &s.subs[side.sub];
-                        let r = src.at(0);
-                        h.f[..i.len].copy_from_slice(&src.f[r.start + side.offset..][..i.len]);
-                        h.w[..i.len].copy_from_slice(&src.w[r.start + side.offset..][..i.len]);
-                        h
-                    })
-                    .collect()
-            })
-            .collect();
-        let mut sub_states: Vec<SubState> = p
-            .subs
-            .iter()
-            .map(|s| SubState::initial(s, p.time.dt))
-            .collect();
-        let mut contact_start: Vec<Option<ContactRunning>> = p
-            .interfaces
-            .iter()
-            .map(|i| match &i.law {
-                Law::Contact(c) => Some(ContactRunning::initial(i, c, &s)),
-                _ => None,
-            })
-            .collect();
-        let window = set.window.unwrap_or(n).clamp(1, n);
-        let mut den_prev = 0.0;
-        let mut iterations = 0;
-        let mut eta = f64::INFINITY;
-        let mut eta_history = Vec::new();
-        let mut converged = true;
-        let mut cancelled = false;
-        let mut m0 = 1;
-        while m0 <= n {
-            let m1 = (m0 + window - 1).min(n);
-            let mut it = 0;
-            let mut contact_end;
-            let mut last;
-            let window_converged = loop {
-                it += 1;
-                iterations += 1;
-                // 1. local stage
-                let t_local = Instant::now();
-                let input = LocalInput {
-                    s: &s,
-                    k: set.k,
-                    time: p.time,
-                    steps: (m0, m1),
-                };
-                let starts = &contact_start;
-                let interfaces = &p.interfaces;
-                contact_end = par::map_mut(&mut hats, |i, hat| {
-                    local_stage(&interfaces[i], &input, hat, starts[i].as_ref())
-                });
-                let local_s = t_local.elapsed().as_secs_f64();
-                // 2. linear stage
-                let t_linear = Instant::now();
-                let lin = LinearInput {
-                    interfaces,
-                    hats: &hats,
-                    k: set.k,
-                    dt: p.time.dt,
-                    steps: (m0, m1),
-                };
-                let whole = set.skip_unchanged && m0 == 1 && m1 == n;
-                let mut bundle: Vec<(
-                    &mut LinearWork,
-                    &mut TraceHistory,
-                    &mut Option<LinearCache>,
-                )> = self
-                    .works
-                    .iter_mut()
-                    .zip(s_new.subs.iter_mut())
-                    .zip(self.cache.iter_mut())
-                    .map(|((w, o), c)| (w, o, c))
-                    .collect();
-                let (subs, factors, states) = (&p.subs, &self.factors, &sub_states);
-                let results = par::map_mut(&mut bundle, |i, (work, out, cache)| {
-                    let sub = &subs[i];
-                    let hat = whole.then(|| gather_hat(sub, &hats));
-                    if let (Some(h), Some(c)) = (&hat, cache.as_ref()) {
-                        if unchanged(h, &c.hat) {
-                            out.f.copy_from_slice(&c.out.f);
-                            out.w.copy_from_slice(&c.out.w);
-                            work.state.clone_from(&c.end);
-                            return (c.sums, true);
-                        }
-                    }
-                    work.state.clone_from(&states[i]);
-                    let sums = linear_stage(sub, &factors[i], work, &lin, out, None);
-                    match (cache.as_mut(), hat) {
-                        (Some(c), Some(hat)) => {
-                            c.hat = hat;
-                            c.out.clone_from(out);
-                            c.sums = sums;
-                            c.end.clone_from(&work.state);
-                        }
-                        (None, Some(hat)) => {
-                            **cache = Some(LinearCache {
-                                hat,
-                                out: (*out).clone(),
-                                sums,
-                                end: work.state.clone(),
-                            })
-                        }
-                        (_, None) => **cache = None,
-                    }
-                    (sums, false)
-                });
-                let skipped = results.iter().filter(|r| r.1).count();
-                let sums: Vec<IndicatorSums> = results.into_iter().map(|r| r.0).collect();
-                // 3. error indicator
-                last = IndicatorSums::default();
-                sums.into_iter().for_each(|x| last.add(x));
-                eta = IndicatorSums {
-                    num: last.num,
-                    den: last.den
-                        + if set.per_step_window_norm && m0 > 1 {
-                            den_prev * (m1 + 1 - m0) as f64 / (m0 - 1) as f64
-                        } else {
-                            den_prev
-                        },
-                }
-                .eta();
-                // 4. relaxation (μ = 1 at the first iteration)
-                let mu = if it == 1 { 1.0 } else { set.mu };
-                relax(&mut s, &s_new, mu, (m0, m1));
-                let linear_s = t_linear.elapsed().as_secs_f64();
-                eta_history.push(eta);
-                let record = IterationRecord {
-                    iteration: iterations,
-                    window_start: m0,
-                    window_end: m1,
-                    eta,
-                    local_s,
-                    linear_s,
-                    skipped,
-                };
-                self.counters.iterations.push(record);
-                let iterate = Iterate {
-                    record: &record,
-                    solver: self,
-                    state: &s,
-                    hats: &hats,
-                    eta_history: &eta_history,
-                };
-                if observer(&iterate) == Control::Stop {
-                    cancelled = true;
-                    break false;
-                }
-                if eta < set.tol {
-                    break true;
-                }
-                if !eta.is_finite() || it >= set.max_iter {
-                    break false;
-                }
-            };
-            for (st, w) in sub_states.iter_mut().zip(&self.works) {
-                st.clone_from(&w.state);
-            }
-            for (start, end) in contact_start.iter_mut().zip(contact_end) {
-                if end.is_some() {
-                    *start = end;
-                }
-            }
-            den_prev += last.den;
-            if !window_converged {
-                converged = false;
-                break;
-            }
-            m0 = m1 + 1;
-            if set.hold_window_start && start.is_none() && m0 <= n {
-                // a cold window starts from the last converged step, held constant
-                // (instead of F = W = 0): the interface state changes little over a window
-                let m1_next = (m0 + window - 1).min(n);
-                for h in &mut s.subs {
-                    let prev = h.at(m0 - 1);
-                    for m in m0..=m1_next {
-                        let r = h.at(m);
-                        h.f.copy_within(prev.clone(), r.start);
-                        h.w.copy_within(prev.clone(), r.start);
-                    }
-                }
-            }
-        }
-        Ok(Solution {
-            state: s,
-            hats,
-            iterations,
-            eta,
-            eta_history,
-            converged,
-            cancelled,
-        })
+        let mut run = self.begin(start)?;
+        while !self.step(&mut run, observer) {}
+        Ok(self.finish(run))
     }
-}
-
-/// ŝ of every side of `sub`, all steps, concatenated (the inputs of its linear stage).
-fn gather_hat(sub: &Substructure, hats: &[Vec<TraceHistory>]) -> Vec<f64> {
-    let mut v = Vec::new();
-    for &(i, side) in &sub.sides {
-        v.extend_from_slice(&hats[i][side].f);
-        v.extend_from_slice(&hats[i][side].w);
-    }
-    v
-}
-
-/// Whether two input vectors agree to a relative 1e-12 (of the largest entry).
-fn unchanged(a: &[f64], b: &[f64]) -> bool {
-    if a.len() != b.len() {
-        return false;
-    }
-    let scale = a.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-    a.iter()
-        .zip(b)
-        .all(|(x, y)| (x - y).abs() <= UNCHANGED * scale)
 }
 
 fn factorize(problem: &Problem, k: f64) -> Result<Vec<CholeskyFactor>> {
@@ -564,17 +323,4 @@ fn factorize(problem: &Problem, k: f64) -> Result<Vec<CholeskyFactor>> {
     })
     .into_iter()
     .collect()
-}
-
-/// s ← μ s_new + (1 − μ) s on steps m0..=m1.
-fn relax(s: &mut InterfaceState, s_new: &InterfaceState, mu: f64, (m0, m1): (usize, usize)) {
-    for (h, hn) in s.subs.iter_mut().zip(&s_new.subs) {
-        let r = m0 * h.len..(m1 + 1) * h.len;
-        for (x, y) in h.f[r.clone()].iter_mut().zip(&hn.f[r.clone()]) {
-            *x = mu * y + (1.0 - mu) * *x;
-        }
-        for (x, y) in h.w[r.clone()].iter_mut().zip(&hn.w[r]) {
-            *x = mu * y + (1.0 - mu) * *x;
-        }
-    }
 }

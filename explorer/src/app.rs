@@ -196,6 +196,11 @@ pub struct ExplorerApp {
     pub frame_intervals: std::collections::VecDeque<f64>,
     last_frame: Option<Instant>,
     measure: Option<Measure>,
+    /// Where the friction slider's rail was drawn in the last frame, points (scripts driving
+    /// the web page click there).
+    pub friction_rail: Option<egui::Rect>,
+    /// Where the 3D view was drawn in the last frame, points.
+    pub view_rect: Option<egui::Rect>,
     /// Scene chosen in the picker (loaded at the end of the frame).
     pub pending_scene: Option<String>,
     /// The recorder converged solves go to while recording is on.
@@ -299,6 +304,8 @@ impl ExplorerApp {
             frame_intervals: Default::default(),
             last_frame: None,
             measure,
+            friction_rail: None,
+            view_rect: None,
             pending_scene: None,
             recorder,
             recording: false,
@@ -381,6 +388,11 @@ impl ExplorerApp {
         self.change_time = Some(Instant::now());
         self.last_latency = None;
         self.error = None;
+    }
+
+    /// Generation of the newest parameter change.
+    pub fn generation(&self) -> u64 {
+        self.worker.generation()
     }
 
     /// Whether the newest request has converged.
@@ -651,6 +663,10 @@ impl ExplorerApp {
             .frame(egui::Frame::NONE)
             .show(ui, |ui| crate::view3d::show(self, ui));
         self.resolve_if_changed();
+        if self.worker.needs_frames() {
+            // the solver runs on this thread (browser): the next frame goes on with it
+            ui.ctx().request_repaint();
+        }
         let (converged, busy) = (self.converged(), self.busy());
         if let Some(m) = &mut self.measure {
             m.on_ui_time(started.elapsed().as_secs_f64(), busy);

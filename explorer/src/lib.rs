@@ -1,7 +1,7 @@
 //! Lopin explorer: an egui/eframe application that shows the substructures of a scene in 3D
 //! coloured by von Mises stress, velocity or contact quantities, with a section plane, a time
 //! scrubber, probes, and parameter sliders whose every move launches a warm-started LATIN
-//! re-solve (METHOD §8) in a background thread, streamed live into the view with a live
+//! re-solve (METHOD §8) in a background thread (a few iterations per frame in the browser), streamed live into the view with a live
 //! convergence plot of η (METHOD §7). Shared by the desktop binary and the web build.
 
 pub mod app;
@@ -11,6 +11,7 @@ pub mod fields;
 pub mod geometry;
 pub mod measure;
 pub mod mesh_build;
+pub mod page_report;
 pub mod panels;
 pub mod params;
 pub mod plots;
@@ -18,6 +19,7 @@ pub mod quantity;
 pub mod recorder;
 pub mod render;
 pub mod section;
+mod service;
 pub mod timeline;
 pub mod view3d;
 pub mod worker;

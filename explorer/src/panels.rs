@@ -89,11 +89,16 @@ fn parameters(app: &mut ExplorerApp, ui: &mut egui::Ui) {
     ui.strong("Parameters (each change re-solves warm)");
     let p = &mut app.params;
     if let Some(f) = &mut p.friction {
-        ui.add(
+        let rail_width = ui.spacing().slider_width;
+        let r = ui.add(
             egui::Slider::new(f, 0.0..=1.0)
                 .clamping(egui::SliderClamping::Never)
                 .text("friction f"),
         );
+        app.friction_rail = Some(egui::Rect::from_min_size(
+            r.rect.min,
+            egui::vec2(rail_width, r.rect.height()),
+        ));
     }
     if let Some(g) = &mut p.gap {
         let mut um = *g * 1e6;
@@ -132,7 +137,20 @@ fn parameters(app: &mut ExplorerApp, ui: &mut egui::Ui) {
     }
 }
 
+/// In the browser the "record to Rerun" toggle is hidden, with the reason: a page has no
+/// filesystem and cannot reach a viewer.
+#[cfg(target_arch = "wasm32")]
+fn recording(_app: &mut ExplorerApp, ui: &mut egui::Ui) {
+    ui.strong("Recording");
+    ui.weak("Rerun recording: desktop only (hover for why)")
+        .on_hover_text(
+        "Recording writes a Rerun file or streams to a Rerun viewer, which a web page cannot do: \
+         use the desktop explorer (`lopin view --record`) or `lopin run SCENE --rerun FILE.rrd`.",
+    );
+}
+
 /// The "record to Rerun" toggle, its target and how many solves went there.
+#[cfg(not(target_arch = "wasm32"))]
 fn recording(app: &mut ExplorerApp, ui: &mut egui::Ui) {
     ui.strong("Recording");
     if app.options.recorder.is_none() {

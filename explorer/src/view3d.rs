@@ -15,6 +15,7 @@ const BACKGROUND: [f32; 3] = [0.105, 0.11, 0.125];
 pub fn show(app: &mut ExplorerApp, ui: &mut egui::Ui) {
     let rect = ui.available_rect_before_wrap();
     let response = ui.allocate_rect(rect, Sense::click_and_drag());
+    app.view_rect = Some(rect);
     response.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Canvas, true, "3D view"));
     let aspect = rect.width() / rect.height().max(1.0);
     // camera input

@@ -1,6 +1,8 @@
 //! The explorer's background re-solve: a parameter change gives a converged warm re-solve equal
 //! to a cold solve at the new value within the tolerance bound, and a change during a re-solve
-//! cancels it (METHOD §8).
+//! cancels it (METHOD §8). Both ways of running the solver are checked: the desktop's solver
+//! thread and the browser's inline mode (a few iterations per poll), which must give the same
+//! iterates bit for bit.
 
 use lopin_core::{post, scene, Settings, Solver};
 use lopin_explorer::fields::StepFields;
@@ -17,7 +19,7 @@ fn two_blocks() -> (lopin_core::Problem, Settings) {
 }
 
 /// Waits for the report of `generation`, collecting the non-live fields that arrive.
-fn finish(worker: &Worker, generation: u64, fields: &mut Vec<Arc<StepFields>>) -> SolveReport {
+fn finish(worker: &mut Worker, generation: u64, fields: &mut Vec<Arc<StepFields>>) -> SolveReport {
     loop {
         match worker.wait(Duration::from_secs(120)) {
             Some(Event::Finished(r)) if r.generation == generation => return r,
@@ -29,29 +31,44 @@ fn finish(worker: &Worker, generation: u64, fields: &mut Vec<Arc<StepFields>>) -
     }
 }
 
+/// The desktop worker (solver thread).
+fn threaded(problem: lopin_core::Problem, settings: Settings) -> Worker {
+    Worker::spawn(problem, settings, Arc::new(|| {}), Default::default()).expect("worker")
+}
+
+/// The browser's worker (no thread: advanced inside poll/wait).
+fn inline(problem: lopin_core::Problem, settings: Settings) -> Worker {
+    Worker::spawn_inline(problem, settings, Arc::new(|| {}), Default::default()).expect("worker")
+}
+
+type Spawn = fn(lopin_core::Problem, Settings) -> Worker;
+
 fn max_abs(v: &[f64]) -> f64 {
     v.iter().fold(0.0, |m, x| m.max(x.abs()))
 }
 
 #[test]
 fn a_slider_change_converges_warm_to_the_cold_solution() {
+    slider_change_converges_warm(threaded);
+}
+
+#[test]
+fn inline_a_slider_change_converges_warm_to_the_cold_solution() {
+    slider_change_converges_warm(inline);
+}
+
+fn slider_change_converges_warm(spawn: Spawn) {
     let (problem, settings) = two_blocks();
-    let mut worker = Worker::spawn(
-        problem.clone(),
-        settings,
-        Arc::new(|| {}),
-        Default::default(),
-    )
-    .expect("worker");
+    let mut worker = spawn(problem.clone(), settings);
     let mut params = Params::of(&problem, &settings);
     let tol = params.tol;
     let g0 = worker.solve(params.clone());
-    let r0 = finish(&worker, g0, &mut Vec::new());
+    let r0 = finish(&mut worker, g0, &mut Vec::new());
     assert!(r0.converged && !r0.warm, "{r0:?}");
 
     params.friction = Some(0.1);
     let g1 = worker.solve(params.clone());
-    let r1 = finish(&worker, g1, &mut Vec::new());
+    let r1 = finish(&mut worker, g1, &mut Vec::new());
     assert!(r1.converged && r1.warm && r1.eta < tol, "{r1:?}");
     let steps = problem.time.steps;
     let probe_steps = [steps / 4, steps / 2, 3 * steps / 4, steps];
@@ -104,14 +121,17 @@ fn a_slider_change_converges_warm_to_the_cold_solution() {
 
 #[test]
 fn a_change_during_a_re_solve_cancels_it() {
+    change_during_re_solve_cancels(threaded);
+}
+
+#[test]
+fn inline_a_change_during_a_re_solve_cancels_it() {
+    change_during_re_solve_cancels(inline);
+}
+
+fn change_during_re_solve_cancels(spawn: Spawn) {
     let (problem, settings) = two_blocks();
-    let mut worker = Worker::spawn(
-        problem.clone(),
-        settings,
-        Arc::new(|| {}),
-        Default::default(),
-    )
-    .expect("worker");
+    let mut worker = spawn(problem.clone(), settings);
     let mut slow = Params::of(&problem, &settings);
     slow.tol = 1e-10;
     slow.friction = Some(0.1);
@@ -129,7 +149,7 @@ fn a_change_during_a_re_solve_cancels_it() {
     fast.tol = 1e-3;
     fast.friction = Some(0.2);
     let g2 = worker.solve(fast);
-    let r1 = finish(&worker, g1, &mut Vec::new());
+    let r1 = finish(&mut worker, g1, &mut Vec::new());
     assert!(r1.cancelled && !r1.converged, "{r1:?}");
     assert!(
         r1.iterations < 100,
@@ -137,9 +157,47 @@ fn a_change_during_a_re_solve_cancels_it() {
         r1.iterations
     );
     let mut fields = Vec::new();
-    let r2 = finish(&worker, g2, &mut fields);
+    let r2 = finish(&mut worker, g2, &mut fields);
     assert!(r2.converged && r2.warm && !r2.cancelled, "{r2:?}");
     assert_eq!(r2.params.friction, Some(0.2));
     // the converged solve sent the fields of the displayed step
     assert!(fields.iter().any(|f| f.generation == g2));
+}
+
+/// Reports and converged fields of a cold solve then two warm re-solves.
+fn session(spawn: Spawn) -> (Vec<SolveReport>, Vec<Arc<StepFields>>) {
+    let (problem, settings) = two_blocks();
+    let mut worker = spawn(problem.clone(), settings);
+    let mut params = Params::of(&problem, &settings);
+    let mut reports = Vec::new();
+    let mut fields = Vec::new();
+    for f in [None, Some(0.1), Some(0.45)] {
+        if f.is_some() {
+            params.friction = f;
+        }
+        let g = worker.solve(params.clone());
+        reports.push(finish(&mut worker, g, &mut fields));
+    }
+    (reports, fields)
+}
+
+#[test]
+fn the_browser_s_inline_worker_gives_the_thread_s_iterates_bit_for_bit() {
+    let (thread_reports, thread_fields) = session(threaded);
+    let (inline_reports, inline_fields) = session(inline);
+    assert_eq!(thread_reports.len(), 3);
+    for (t, i) in thread_reports.iter().zip(&inline_reports) {
+        assert!(t.converged && i.converged, "{t:?} {i:?}");
+        assert_eq!(t.iterations, i.iterations);
+        assert_eq!(t.eta.to_bits(), i.eta.to_bits(), "η {} vs {}", t.eta, i.eta);
+        assert_eq!(t.warm, i.warm);
+    }
+    assert!(inline_reports[1].warm && !inline_reports[0].warm);
+    assert_eq!(thread_fields.len(), inline_fields.len());
+    for (t, i) in thread_fields.iter().zip(&inline_fields) {
+        assert_eq!(t.step, i.step);
+        for (ts, is) in t.subs.iter().zip(&i.subs) {
+            assert_eq!(ts.v, is.v, "velocity at step {}", t.step);
+        }
+    }
 }

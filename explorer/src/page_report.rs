@@ -1,0 +1,110 @@
+//! What the explorer tells a web page about itself, so scripts (the end-to-end browser test,
+//! the timing benchmark) can follow it without reading pixels: solver state, the newest solve's
+//! parameters, iterations, η and latency, and where the friction slider's rail is drawn. The
+//! web crate writes it into the page title and the `data-*` attributes of `#lopin-status`;
+//! it is plain data, so the desktop tests check it too.
+
+use crate::app::{ExplorerApp, SolveStatus};
+
+/// The explorer's state as a page shows it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PageReport {
+    /// "starting", "solving", "converged", "not-converged" or "failed".
+    pub state: &'static str,
+    /// Scene name.
+    pub scene: String,
+    /// Generation of the newest parameter change (1 = the first solve).
+    pub generation: u64,
+    /// Friction coefficient of the newest request, if the scene has contact.
+    pub friction: Option<f64>,
+    /// Iterations of the newest finished solve (or so far, while solving).
+    pub iterations: usize,
+    /// Its last η.
+    pub eta: f64,
+    /// Whether the newest finished solve started warm.
+    pub warm: bool,
+    /// Seconds from the newest parameter change to its converged solve.
+    pub latency_s: Option<f64>,
+    /// Whether the 3D view has fields to draw.
+    pub drawn: bool,
+    /// The friction slider's rail: left, top, width, height in points (CSS pixels at zoom 1).
+    pub friction_rail: Option<[f32; 4]>,
+    /// The 3D view: left, top, width, height in points.
+    pub view: Option<[f32; 4]>,
+    /// The failure message, if any.
+    pub error: Option<String>,
+}
+
+impl PageReport {
+    /// The report of an explorer after its last frame.
+    pub fn of(app: &ExplorerApp) -> PageReport {
+        let (state, iterations, eta, warm) = match &app.status {
+            SolveStatus::Starting => ("starting", 0, f64::INFINITY, false),
+            SolveStatus::Running {
+                iterations, eta, ..
+            } => ("solving", *iterations, *eta, false),
+            SolveStatus::Done(r) if app.busy() => ("solving", r.iterations, r.eta, r.warm),
+            SolveStatus::Done(r) if r.converged => ("converged", r.iterations, r.eta, r.warm),
+            SolveStatus::Done(r) => ("not-converged", r.iterations, r.eta, r.warm),
+            SolveStatus::Failed(_) => ("failed", 0, f64::NAN, false),
+        };
+        let error = match &app.status {
+            SolveStatus::Failed(e) => Some(e.clone()),
+            _ => app.error.clone(),
+        };
+        PageReport {
+            state,
+            scene: app.info.name.clone(),
+            generation: app.generation(),
+            friction: app.requested.friction,
+            iterations,
+            eta,
+            warm,
+            latency_s: app.last_latency,
+            drawn: app.shown_fields().is_some(),
+            friction_rail: app.friction_rail.map(rect4),
+            view: app.view_rect.map(rect4),
+            error,
+        }
+    }
+
+    /// The page title: scene, state, friction and iterations at a glance.
+    pub fn title(&self) -> String {
+        let f = self
+            .friction
+            .map(|f| format!(" f={f:.3}"))
+            .unwrap_or_default();
+        format!(
+            "Lopin {}: {}{f} ({} it, eta {:.1e})",
+            self.scene, self.state, self.iterations, self.eta
+        )
+    }
+
+    /// `data-*` attribute names and values of the status element.
+    pub fn attributes(&self) -> Vec<(&'static str, String)> {
+        let opt = |x: Option<f64>| x.map_or_else(String::new, |v| format!("{v}"));
+        vec![
+            ("data-state", self.state.to_string()),
+            ("data-scene", self.scene.clone()),
+            ("data-generation", self.generation.to_string()),
+            ("data-friction", opt(self.friction)),
+            ("data-iterations", self.iterations.to_string()),
+            ("data-eta", format!("{:e}", self.eta)),
+            ("data-warm", self.warm.to_string()),
+            ("data-latency-s", opt(self.latency_s)),
+            ("data-drawn", self.drawn.to_string()),
+            ("data-friction-rail", list4(self.friction_rail)),
+            ("data-view", list4(self.view)),
+            ("data-error", self.error.clone().unwrap_or_default()),
+        ]
+    }
+}
+
+fn rect4(r: egui::Rect) -> [f32; 4] {
+    [r.min.x, r.min.y, r.width(), r.height()]
+}
+
+fn list4(r: Option<[f32; 4]>) -> String {
+    r.map(|r| format!("{},{},{},{}", r[0], r[1], r[2], r[3]))
+        .unwrap_or_default()
+}

@@ -1,0 +1,78 @@
+//! The state the web page exposes to scripts (`PageReport`, written into `#lopin-status` by the
+//! web crate): converged solve, iterations, η, warm flag and latency, and the friction slider's
+//! rail, which a click must hit: clicking at 3/4 of the reported rail moves f to about 3/4 of
+//! its 0..1 range and launches a warm re-solve (what the browser test does with a real mouse).
+
+mod common;
+
+use lopin_explorer::page_report::PageReport;
+
+#[test]
+fn the_page_report_follows_solves_and_locates_the_friction_slider() {
+    let mut h = common::harness("two-blocks");
+    common::settle(&mut h);
+    let r = PageReport::of(h.state());
+    assert_eq!(r.state, "converged", "{r:?}");
+    assert_eq!(r.scene, "two-blocks");
+    assert_eq!(r.generation, 1);
+    assert!(!r.warm);
+    assert!(r.drawn);
+    let tol = h.state().params.tol;
+    assert!(r.iterations > 1 && r.eta < tol, "{r:?}");
+    let f0 = r.friction.expect("two-blocks has contact");
+    let latency = r.latency_s.expect("first solve timed");
+    assert!(latency > 0.0);
+    let rail = r.friction_rail.expect("slider drawn");
+    let view = r.view.expect("view drawn");
+    // the rail lies in the left panel, the view right of it, both inside the window
+    assert!(
+        rail[0] >= 0.0 && rail[0] + rail[2] <= view[0],
+        "{rail:?} {view:?}"
+    );
+    assert!(rail[2] > 50.0 && rail[3] > 5.0, "{rail:?}");
+    assert!(view[2] > 400.0 && view[3] > 300.0, "{view:?}");
+    let attrs = r.attributes();
+    let get = |k: &str| {
+        attrs
+            .iter()
+            .find(|(n, _)| *n == k)
+            .map(|(_, v)| v.clone())
+            .expect("attribute")
+    };
+    assert_eq!(get("data-state"), "converged");
+    assert_eq!(get("data-friction").parse::<f64>().ok(), Some(f0));
+    assert_eq!(get("data-iterations"), r.iterations.to_string());
+    assert!(r.title().starts_with("Lopin two-blocks: converged f="));
+
+    // click at 3/4 of the rail, as the browser test does
+    let at = egui::pos2(rail[0] + 0.75 * rail[2], rail[1] + rail[3] / 2.0);
+    click(&mut h, at);
+    common::settle(&mut h);
+    let r2 = PageReport::of(h.state());
+    let f1 = r2.friction.expect("friction");
+    assert!(
+        (f1 - 0.75).abs() < 0.06,
+        "clicked 3/4 of the rail, f = {f1}"
+    );
+    assert!((f1 - f0).abs() > 0.05, "f moved from {f0} to {f1}");
+    assert_eq!(r2.state, "converged", "{r2:?}");
+    assert_eq!(r2.generation, 2);
+    assert!(r2.warm && r2.eta < tol, "{r2:?}");
+    assert!(r2.latency_s.is_some());
+    assert_ne!(r2.title(), r.title());
+}
+
+fn click(h: &mut egui_kittest::Harness<'static, lopin_explorer::ExplorerApp>, at: egui::Pos2) {
+    let button = |pressed| egui::Event::PointerButton {
+        pos: at,
+        button: egui::PointerButton::Primary,
+        pressed,
+        modifiers: Default::default(),
+    };
+    h.input_mut().events.push(egui::Event::PointerMoved(at));
+    h.step();
+    h.input_mut().events.push(button(true));
+    h.step();
+    h.input_mut().events.push(button(false));
+    h.step();
+}

@@ -1,0 +1,50 @@
+#!/usr/bin/env bash
+# Builds the explorer for the browser into dist/ (index.html, lopin_web.js, lopin_web_bg.wasm,
+# build.json with the sizes), installing what it needs first (scripts/web-tools.sh). The wasm
+# build uses Debian's rustc-web toolchain with std built from source, in its own target folder
+# (target/web), so it never disturbs the native build. Serve dist/ with scripts/serve-web.sh.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+source scripts/web-tools.sh
+
+TARGET=wasm32-unknown-unknown
+OUT=dist
+echo "web: cargo build --release -p lopin-web --target $TARGET (Debian rustc-web, build-std)"
+RUSTC=/usr/bin/rustc RUSTDOC=/usr/bin/rustdoc RUSTC_BOOTSTRAP=1 \
+    CARGO_UNSTABLE_BUILD_STD=std,panic_abort \
+    CARGO_TARGET_WASM32_UNKNOWN_UNKNOWN_LINKER=wasm-ld-22 \
+    /usr/bin/cargo build --release -p lopin-web --target "$TARGET" --target-dir target/web
+RAW="target/web/$TARGET/release/lopin_web.wasm"
+
+rm -rf "$OUT.tmp"
+mkdir -p "$OUT.tmp"
+"$WEB_TOOLS/bin/wasm-bindgen" --target web --no-typescript --out-dir "$OUT.tmp" "$RAW"
+BINDGEN_BYTES=$(stat -c %s "$OUT.tmp/lopin_web_bg.wasm")
+echo "web: wasm-opt -O2"
+node "$WEB_TOOLS/npm/node_modules/binaryen/bin/wasm-opt" -O2 \
+    --enable-bulk-memory --enable-nontrapping-float-to-int --enable-sign-ext \
+    --enable-mutable-globals --enable-reference-types --enable-multivalue \
+    "$OUT.tmp/lopin_web_bg.wasm" -o "$OUT.tmp/lopin_web_bg.opt.wasm"
+mv "$OUT.tmp/lopin_web_bg.opt.wasm" "$OUT.tmp/lopin_web_bg.wasm"
+cp index.html "$OUT.tmp/"
+WASM_BYTES=$(stat -c %s "$OUT.tmp/lopin_web_bg.wasm")
+GZIP_BYTES=$(gzip -9 -c "$OUT.tmp/lopin_web_bg.wasm" | wc -c)
+JS_BYTES=$(stat -c %s "$OUT.tmp/lopin_web.js")
+cat > "$OUT.tmp/build.json" <<JSON
+{
+  "commit": "$(git rev-parse --short HEAD 2>/dev/null || echo unknown)",
+  "wasm_bytes_after_wasm_bindgen": $BINDGEN_BYTES,
+  "wasm_bytes": $WASM_BYTES,
+  "wasm_gzip_bytes": $GZIP_BYTES,
+  "js_bytes": $JS_BYTES
+}
+JSON
+rm -rf "$OUT"
+mv "$OUT.tmp" "$OUT"
+LIMIT=$((8 * 1024 * 1024))
+python3 -c "import sys; w, b, g = map(int, sys.argv[1:]); print(f'web: dist/lopin_web_bg.wasm {w} bytes ({w / 2**20:.2f} MiB; {b} after wasm-bindgen, {g} gzipped), budget 8 MiB')" \
+    "$WASM_BYTES" "$BINDGEN_BYTES" "$GZIP_BYTES"
+if [ "$WASM_BYTES" -gt "$LIMIT" ]; then
+    echo "web: the .wasm exceeds the 8 MiB budget" >&2
+    exit 1
+fi

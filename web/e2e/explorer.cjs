@@ -1,0 +1,218 @@
+// End-to-end test and timing benchmark of the web explorer in headless Chromium (Debian's
+// chromium, driven by playwright-core). The page reports its state in #lopin-status (see
+// lopin_explorer::page_report): this script waits for the first converged solve, checks that
+// the 3D view is drawn (not blank) in a screenshot, clicks the friction slider's rail where the
+// page says it is, waits for the warm re-solve to converge, and fails on any console error.
+//
+//   node web/e2e/explorer.cjs URL OUT_DIR [MOVES]
+//
+// Writes OUT_DIR/web-first.png, OUT_DIR/web-after.png and OUT_DIR/web-e2e.json (timings).
+"use strict";
+const path = require("path");
+const fs = require("fs");
+const tools = process.env.WEB_TOOLS;
+if (!tools) {
+  console.error("WEB_TOOLS is not set (run through scripts/test-web.sh)");
+  process.exit(2);
+}
+const { chromium } = require(path.join(tools, "npm/node_modules/playwright-core"));
+
+const [url, outDir, movesArg] = process.argv.slice(2);
+const moves = Number(movesArg || 3);
+// where each move clicks along the friction rail (fractions of its width)
+const FRACTIONS = [0.75, 0.3, 0.55, 0.2, 0.65, 0.4, 0.85, 0.1, 0.5, 0.7];
+const LOAD_TIMEOUT_MS = 180000;
+const RESOLVE_TIMEOUT_MS = 120000;
+
+function fail(msg) {
+  throw new Error(msg);
+}
+
+async function status(page) {
+  return page.evaluate(() => {
+    const el = document.getElementById("lopin-status");
+    const d = { ...el.dataset };
+    d.title = document.title;
+    d.now = performance.now();
+    return d;
+  });
+}
+
+function rect(attr, what) {
+  const r = (attr || "").split(",").map(Number);
+  if (r.length !== 4 || r.some((x) => !Number.isFinite(x)) || r[2] <= 0 || r[3] <= 0) {
+    fail(`the page reports no ${what} (got "${attr}")`);
+  }
+  return r;
+}
+
+// Colour statistics of a screenshot region, decoded by the browser itself.
+async function regionStats(page, png, r) {
+  return page.evaluate(
+    async ({ b64, r }) => {
+      const img = new Image();
+      img.src = "data:image/png;base64," + b64;
+      await img.decode();
+      const c = document.createElement("canvas");
+      c.width = img.width;
+      c.height = img.height;
+      const g = c.getContext("2d");
+      g.drawImage(img, 0, 0);
+      const [x, y, w, h] = r.map(Math.round);
+      const d = g.getImageData(x, y, w, h).data;
+      const counts = new Map();
+      for (let i = 0; i < d.length; i += 4) {
+        const key = ((d[i] >> 3) << 10) | ((d[i + 1] >> 3) << 5) | (d[i + 2] >> 3);
+        counts.set(key, (counts.get(key) || 0) + 1);
+      }
+      let background = 0;
+      for (const n of counts.values()) background = Math.max(background, n);
+      const pixels = d.length / 4;
+      return {
+        pixels,
+        colours: counts.size,
+        non_background_fraction: 1 - background / pixels,
+      };
+    },
+    { b64: png.toString("base64"), r }
+  );
+}
+
+async function checkDrawn(page, file, viewRect) {
+  const png = await page.screenshot({ path: file });
+  const s = await regionStats(page, png, viewRect);
+  // a drawn view has the coloured mesh (viridis), the legend and the axes: many colours and a
+  // good share of the view off the background
+  if (s.colours < 24 || s.non_background_fraction < 0.03) {
+    fail(`the 3D view looks blank in ${file}: ${JSON.stringify(s)}`);
+  }
+  return s;
+}
+
+async function waitConverged(page, generation, timeout) {
+  await page.waitForFunction(
+    (g) => {
+      const d = document.getElementById("lopin-status").dataset;
+      return (
+        Number(d.generation) >= g &&
+        (d.state === "converged" || d.state === "not-converged" || d.state === "failed")
+      );
+    },
+    generation,
+    { timeout, polling: 20 }
+  );
+  const st = await status(page);
+  if (st.state !== "converged") {
+    fail(`solve ${generation} ended ${st.state}: ${st.title} ${st.error || ""}`);
+  }
+  return st;
+}
+
+async function main() {
+  fs.mkdirSync(outDir, { recursive: true });
+  const browser = await chromium.launch({
+    executablePath: "/usr/bin/chromium",
+    headless: true,
+    args: [
+      "--no-sandbox",
+      "--disable-gpu",
+      "--disable-quic",
+      "--no-first-run",
+      "--disable-background-networking",
+      "--disable-component-update",
+      "--disable-sync",
+      "--use-angle=swiftshader",
+      "--enable-unsafe-swiftshader",
+    ],
+  });
+  const errors = [];
+  const report = { url, moves: [] };
+  try {
+    const context = await browser.newContext({
+      viewport: { width: 1280, height: 800 },
+      deviceScaleFactor: 1,
+    });
+    const page = await context.newPage();
+    page.on("console", (m) => {
+      if (m.type() === "error") errors.push(`console: ${m.text()}`);
+    });
+    page.on("pageerror", (e) => errors.push(`page error: ${e.message}`));
+    page.on("requestfailed", (r) => errors.push(`request failed: ${r.url()}`));
+    page.on("response", (r) => {
+      if (r.status() >= 400) errors.push(`HTTP ${r.status()}: ${r.url()}`);
+    });
+
+    await page.goto(url, { waitUntil: "load" });
+    const first = await waitConverged(page, 1, LOAD_TIMEOUT_MS);
+    report.first_frame_ms = Number(first.firstFrameMs);
+    report.first_fields_ms = Number(first.firstFieldsMs);
+    report.first_converged_ms = first.now;
+    report.first_solve = {
+      iterations: Number(first.iterations),
+      eta: Number(first.eta),
+      latency_s: Number(first.latencyS),
+    };
+    if (first.drawn !== "true") fail("converged, but the page reports no fields drawn");
+    const view = rect(first.view, "3D view");
+    // let the converged fields reach the screen
+    await page.waitForTimeout(300);
+    report.first_view = await checkDrawn(page, path.join(outDir, "web-first.png"), view);
+
+    let last = first;
+    for (let i = 0; i < moves; i++) {
+      const rail = rect(last.frictionRail, "friction slider");
+      const frac = FRACTIONS[i % FRACTIONS.length];
+      const x = rail[0] + frac * rail[2];
+      const y = rail[1] + rail[3] / 2;
+      const f0 = Number(last.friction);
+      const g0 = Number(last.generation);
+      const t0 = await page.evaluate(() => performance.now());
+      await page.mouse.click(x, y);
+      // the click is a parameter change: a new generation
+      await page.waitForFunction(
+        (g) => Number(document.getElementById("lopin-status").dataset.generation) > g,
+        g0,
+        { timeout: 10000, polling: 20 }
+      );
+      const st = await waitConverged(page, g0 + 1, RESOLVE_TIMEOUT_MS);
+      const f1 = Number(st.friction);
+      if (!(Math.abs(f1 - f0) > 0.05)) {
+        fail(`the slider click at ${frac} of the rail moved f from ${f0} to ${f1} only`);
+      }
+      if (st.warm !== "true") fail(`re-solve ${st.generation} did not start warm`);
+      report.moves.push({
+        friction_from: f0,
+        friction_to: f1,
+        iterations: Number(st.iterations),
+        eta: Number(st.eta),
+        app_latency_s: Number(st.latencyS),
+        click_to_converged_in_dom_s: (st.now - t0) / 1000,
+      });
+      last = st;
+    }
+    await page.waitForTimeout(300);
+    report.after_view = await checkDrawn(page, path.join(outDir, "web-after.png"), view);
+    report.title = (await status(page)).title;
+  } finally {
+    await browser.close();
+  }
+  report.console_errors = errors;
+  fs.writeFileSync(path.join(outDir, "web-e2e.json"), JSON.stringify(report, null, 2));
+  if (errors.length > 0) fail(`console errors:\n  ${errors.join("\n  ")}`);
+  return report;
+}
+
+main().then(
+  (r) => {
+    const lat = r.moves.map((m) => m.app_latency_s.toFixed(3)).join(", ");
+    console.log(
+      `web e2e: first frame ${r.first_frame_ms.toFixed(0)} ms, first fields ` +
+        `${r.first_fields_ms.toFixed(0)} ms, first converged ${r.first_converged_ms.toFixed(0)} ms ` +
+        `after navigation; slider -> converged (s): ${lat}; no console errors`
+    );
+  },
+  (e) => {
+    console.error(`web e2e FAILED: ${e.message}`);
+    process.exit(1);
+  }
+);
