@@ -196,9 +196,9 @@ pub struct ExplorerApp {
     pub frame_intervals: std::collections::VecDeque<f64>,
     last_frame: Option<Instant>,
     measure: Option<Measure>,
-    /// Where the friction slider's rail was drawn in the last frame, points (scripts driving
-    /// the web page click there).
-    pub friction_rail: Option<egui::Rect>,
+    /// Where some controls were drawn in the last frame, points: "friction" and "time" (slider
+    /// rails), "section" and "exploded" (checkboxes). Scripts driving the web page click there.
+    pub controls: std::collections::BTreeMap<&'static str, egui::Rect>,
     /// Where the 3D view was drawn in the last frame, points.
     pub view_rect: Option<egui::Rect>,
     /// Scene chosen in the picker (loaded at the end of the frame).
@@ -304,7 +304,7 @@ impl ExplorerApp {
             frame_intervals: Default::default(),
             last_frame: None,
             measure,
-            friction_rail: None,
+            controls: Default::default(),
             view_rect: None,
             pending_scene: None,
             recorder,
@@ -651,6 +651,9 @@ impl ExplorerApp {
     pub fn frame(&mut self, ui: &mut egui::Ui) {
         let started = Instant::now();
         let dt = self.frame_clock();
+        if dt > 0.0 {
+            self.worker.set_frame_interval(dt);
+        }
         self.pump();
         self.advance_time(dt.min(0.1));
         crate::panels::top_bar(self, ui);

@@ -28,6 +28,7 @@ pub use app::{ExplorerApp, Options};
 pub use recorder::{RecordedSolve, RecorderFactory, SolveRecorder};
 
 /// Opens the explorer in a native window (wgpu renderer) and returns when it is closed.
+#[cfg(not(target_arch = "wasm32"))]
 pub fn run_native(options: Options) -> anyhow::Result<()> {
     // fail before opening a window if the scene cannot be loaded or built
     app::load(&options.scene)?;

@@ -1,6 +1,8 @@
 //! What the explorer tells a web page about itself, so scripts (the end-to-end browser test,
 //! the timing benchmark) can follow it without reading pixels: solver state, the newest solve's
-//! parameters, iterations, η and latency, and where the friction slider's rail is drawn. The
+//! parameters, iterations, η and latency, the displayed step and view options, and where the
+//! controls a script clicks (friction and time slider rails, section and exploded checkboxes)
+//! are drawn. The
 //! web crate writes it into the page title and the `data-*` attributes of `#lopin-status`;
 //! it is plain data, so the desktop tests check it too.
 
@@ -27,8 +29,17 @@ pub struct PageReport {
     pub latency_s: Option<f64>,
     /// Whether the 3D view has fields to draw.
     pub drawn: bool,
-    /// The friction slider's rail: left, top, width, height in points (CSS pixels at zoom 1).
-    pub friction_rail: Option<[f32; 4]>,
+    /// Displayed time step.
+    pub step: usize,
+    /// Step of the fields on screen, and whether they are a live iterate.
+    pub shown_step: Option<(usize, bool)>,
+    /// Whether the section is on.
+    pub section: bool,
+    /// Whether the exploded view is on.
+    pub exploded: bool,
+    /// Controls a script can click (see [`ExplorerApp::controls`]): left, top, width, height in
+    /// points (CSS pixels at zoom 1).
+    pub controls: Vec<(&'static str, [f32; 4])>,
     /// The 3D view: left, top, width, height in points.
     pub view: Option<[f32; 4]>,
     /// The failure message, if any.
@@ -62,7 +73,11 @@ impl PageReport {
             warm,
             latency_s: app.last_latency,
             drawn: app.shown_fields().is_some(),
-            friction_rail: app.friction_rail.map(rect4),
+            step: app.step,
+            shown_step: app.shown_fields().map(|f| (f.step, f.live)),
+            section: app.view.section,
+            exploded: app.view.exploded,
+            controls: app.controls.iter().map(|(k, r)| (*k, rect4(*r))).collect(),
             view: app.view_rect.map(rect4),
             error,
         }
@@ -80,6 +95,21 @@ impl PageReport {
         )
     }
 
+    /// Where a control is, if it was drawn.
+    pub fn control(&self, name: &str) -> Option<[f32; 4]> {
+        self.controls.iter().find(|(k, _)| *k == name).map(|c| c.1)
+    }
+
+    /// The controls as a JSON object of name → [left, top, width, height].
+    pub fn controls_json(&self) -> String {
+        let map: serde_json::Map<String, serde_json::Value> = self
+            .controls
+            .iter()
+            .map(|(k, r)| (k.to_string(), serde_json::json!(r)))
+            .collect();
+        serde_json::Value::Object(map).to_string()
+    }
+
     /// `data-*` attribute names and values of the status element.
     pub fn attributes(&self) -> Vec<(&'static str, String)> {
         let opt = |x: Option<f64>| x.map_or_else(String::new, |v| format!("{v}"));
@@ -93,8 +123,21 @@ impl PageReport {
             ("data-warm", self.warm.to_string()),
             ("data-latency-s", opt(self.latency_s)),
             ("data-drawn", self.drawn.to_string()),
-            ("data-friction-rail", list4(self.friction_rail)),
+            ("data-step", self.step.to_string()),
+            (
+                "data-shown-step",
+                self.shown_step
+                    .map_or_else(String::new, |(s, _)| s.to_string()),
+            ),
+            (
+                "data-shown-live",
+                self.shown_step
+                    .map_or_else(String::new, |(_, l)| l.to_string()),
+            ),
+            ("data-section", self.section.to_string()),
+            ("data-exploded", self.exploded.to_string()),
             ("data-view", list4(self.view)),
+            ("data-controls", self.controls_json()),
             ("data-error", self.error.clone().unwrap_or_default()),
         ]
     }

@@ -95,10 +95,8 @@ fn parameters(app: &mut ExplorerApp, ui: &mut egui::Ui) {
                 .clamping(egui::SliderClamping::Never)
                 .text("friction f"),
         );
-        app.friction_rail = Some(egui::Rect::from_min_size(
-            r.rect.min,
-            egui::vec2(rail_width, r.rect.height()),
-        ));
+        app.controls
+            .insert("friction", slider_rail(r.rect, rail_width));
     }
     if let Some(g) = &mut p.gap {
         let mut um = *g * 1e6;
@@ -229,7 +227,8 @@ fn view_options(app: &mut ExplorerApp, ui: &mut egui::Ui) {
         .labelled_by(label);
     });
     ui.horizontal(|ui| {
-        ui.checkbox(&mut v.exploded, "exploded");
+        let r = ui.checkbox(&mut v.exploded, "exploded");
+        app.controls.insert("exploded", r.rect);
         ui.add_enabled(
             v.exploded,
             egui::Slider::new(&mut v.explode_amount, 0.05..=1.0)
@@ -237,7 +236,8 @@ fn view_options(app: &mut ExplorerApp, ui: &mut egui::Ui) {
                 .text("amount"),
         );
     });
-    ui.checkbox(&mut v.section, "section");
+    let r = ui.checkbox(&mut v.section, "section");
+    app.controls.insert("section", r.rect);
     ui.add_enabled_ui(v.section, |ui| {
         ui.horizontal(|ui| {
             for (a, name) in ["x", "y", "z"].iter().enumerate() {
@@ -293,4 +293,9 @@ fn sizes(app: &ExplorerApp, ui: &mut egui::Ui) {
     if let Some(fps) = app.fps() {
         ui.label(format!("{fps:.0} frames/s"));
     }
+}
+
+/// The rail of a slider whose response covers `rect` (rail then value box and label).
+pub(crate) fn slider_rail(rect: egui::Rect, rail_width: f32) -> egui::Rect {
+    egui::Rect::from_min_size(rect.min, egui::vec2(rail_width, rect.height()))
 }

@@ -18,11 +18,12 @@ pub fn show(app: &mut ExplorerApp, ui: &mut egui::Ui) {
                 app.set_step(app.step + 1);
             }
             let mut step = app.step;
-            ui.spacing_mut().slider_width = (ui.available_width() - 260.0).max(100.0);
-            if ui
-                .add(egui::Slider::new(&mut step, 0..=app.info.steps).text("step"))
-                .changed()
-            {
+            let rail_width = (ui.available_width() - 260.0).max(100.0);
+            ui.spacing_mut().slider_width = rail_width;
+            let r = ui.add(egui::Slider::new(&mut step, 0..=app.info.steps).text("step"));
+            app.controls
+                .insert("time", crate::panels::slider_rail(r.rect, rail_width));
+            if r.changed() {
                 app.set_step(step);
             }
             ui.label(format!("t = {:.3} µs", app.time() * 1e6));

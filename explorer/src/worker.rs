@@ -118,12 +118,18 @@ enum Link {
     Inline {
         service: Option<Box<Service>>,
         queue: Vec<Command>,
+        /// Budget of the next poll, ms (see [`Worker::set_frame_interval`]).
+        budget_ms: f64,
+        /// Time the last poll spent in the solver, ms.
+        spent_ms: f64,
     },
 }
 
-/// Milliseconds of solver work per [`Worker::poll`] when the solver runs on the UI thread (the
-/// browser): about two frames at 60 Hz, and always at least one iteration.
+/// Least milliseconds of solver work per [`Worker::poll`] when the solver runs on the UI thread
+/// (the browser): about two frames at 60 Hz, and always at least one iteration.
 const INLINE_BUDGET_MS: f64 = 30.0;
+/// Most milliseconds per poll: the page answers input at least a few times a second.
+const INLINE_BUDGET_MAX_MS: f64 = 250.0;
 
 impl Worker {
     /// Starts the worker for a built problem; `wake` is called after each event so the UI can
@@ -204,6 +210,8 @@ impl Worker {
         Link::Inline {
             service: service.map(Box::new),
             queue: Vec::new(),
+            budget_ms: INLINE_BUDGET_MS,
+            spent_ms: 0.0,
         }
     }
 
@@ -270,20 +278,41 @@ impl Worker {
         self.send(Command::Record);
     }
 
+    /// Tells the inline solver how long the last frame took, s: it then gets about as much
+    /// time per frame as drawing and the UI took (half the frame), between [`INLINE_BUDGET_MS`]
+    /// and [`INLINE_BUDGET_MAX_MS`]. With fast drawing the page keeps its frame rate; with slow
+    /// (software) drawing the solver does not wait a whole frame per iteration.
+    #[cfg_attr(target_arch = "wasm32", allow(irrefutable_let_patterns))] // only Inline there
+    pub fn set_frame_interval(&mut self, seconds: f64) {
+        if let Link::Inline {
+            budget_ms,
+            spent_ms,
+            ..
+        } = &mut self.link
+        {
+            let others_ms = seconds * 1e3 - *spent_ms;
+            *budget_ms = others_ms.clamp(INLINE_BUDGET_MS, INLINE_BUDGET_MAX_MS);
+        }
+    }
+
     /// Events received since the last call. When the solver runs on this thread (browser), it
-    /// first advances it for up to [`INLINE_BUDGET_MS`].
+    /// first advances it for its budget (at least [`INLINE_BUDGET_MS`]; see
+    /// [`Worker::set_frame_interval`]).
     pub fn poll(&mut self) -> Vec<Event> {
         if let Link::Inline {
             service: Some(service),
             queue,
+            budget_ms,
+            spent_ms,
         } = &mut self.link
         {
             let t0 = Instant::now();
             while service.tick(queue) {
-                if t0.elapsed().as_secs_f64() * 1e3 >= INLINE_BUDGET_MS {
+                if t0.elapsed().as_secs_f64() * 1e3 >= *budget_ms {
                     break;
                 }
             }
+            *spent_ms = t0.elapsed().as_secs_f64() * 1e3;
         }
         let mut out: Vec<Event> = self.pending.drain(..).collect();
         out.extend(self.events.try_iter());
@@ -297,6 +326,7 @@ impl Worker {
             Link::Inline {
                 service: Some(service),
                 queue,
+                ..
             } => service.solving() || !queue.is_empty(),
             _ => false,
         }

@@ -22,7 +22,13 @@ fn the_page_report_follows_solves_and_locates_the_friction_slider() {
     let f0 = r.friction.expect("two-blocks has contact");
     let latency = r.latency_s.expect("first solve timed");
     assert!(latency > 0.0);
-    let rail = r.friction_rail.expect("slider drawn");
+    let rail = r.control("friction").expect("slider drawn");
+    let time_rail = r.control("time").expect("time slider drawn");
+    let section = r.control("section").expect("section checkbox drawn");
+    assert!(r.control("exploded").is_some());
+    // the controls object is what the browser test parses
+    let parsed: serde_json::Value = serde_json::from_str(&r.controls_json()).expect("json");
+    assert_eq!(parsed["friction"][2].as_f64(), Some(f64::from(rail[2])));
     let view = r.view.expect("view drawn");
     // the rail lies in the left panel, the view right of it, both inside the window
     assert!(
@@ -60,6 +66,36 @@ fn the_page_report_follows_solves_and_locates_the_friction_slider() {
     assert!(r2.warm && r2.eta < tol, "{r2:?}");
     assert!(r2.latency_s.is_some());
     assert_ne!(r2.title(), r.title());
+
+    // the section checkbox and the time rail: the browser test clicks them too
+    assert!(!r2.section);
+    click(&mut h, rect_centre(section));
+    let r3 = PageReport::of(h.state());
+    assert!(r3.section, "the section checkbox was hit");
+    let steps = h.state().info.steps;
+    click(
+        &mut h,
+        egui::pos2(
+            time_rail[0] + 0.2 * time_rail[2],
+            time_rail[1] + time_rail[3] / 2.0,
+        ),
+    );
+    common::settle(&mut h);
+    let r4 = PageReport::of(h.state());
+    let want = 0.2 * steps as f64;
+    assert!(
+        (r4.step as f64 - want).abs() <= 0.06 * steps as f64,
+        "clicked 1/5 of the time rail: step {} of {steps}",
+        r4.step
+    );
+    assert_eq!(r4.shown_step, Some((r4.step, false)));
+    let attrs = r4.attributes();
+    assert!(attrs.contains(&("data-step", r4.step.to_string())));
+    assert!(attrs.contains(&("data-section", "true".to_string())));
+}
+
+fn rect_centre(r: [f32; 4]) -> egui::Pos2 {
+    egui::pos2(r[0] + r[2] / 2.0, r[1] + r[3] / 2.0)
 }
 
 fn click(h: &mut egui_kittest::Harness<'static, lopin_explorer::ExplorerApp>, at: egui::Pos2) {

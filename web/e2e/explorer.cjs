@@ -2,11 +2,13 @@
 // chromium, driven by playwright-core). The page reports its state in #lopin-status (see
 // lopin_explorer::page_report): this script waits for the first converged solve, checks that
 // the 3D view is drawn (not blank) in a screenshot, clicks the friction slider's rail where the
-// page says it is, waits for the warm re-solve to converge, and fails on any console error.
+// page says it is and waits for each warm re-solve to converge, then switches the section on
+// and scrubs time (each must change the picture), and fails on any console error.
 //
 //   node web/e2e/explorer.cjs URL OUT_DIR [MOVES]
 //
-// Writes OUT_DIR/web-first.png, OUT_DIR/web-after.png and OUT_DIR/web-e2e.json (timings).
+// Writes OUT_DIR/web-first.png, web-after.png, web-section.png, web-time.png and
+// OUT_DIR/web-e2e.json (timings).
 "use strict";
 const path = require("path");
 const fs = require("fs");
@@ -44,6 +46,51 @@ function rect(attr, what) {
     fail(`the page reports no ${what} (got "${attr}")`);
   }
   return r;
+}
+
+function control(st, name) {
+  const r = JSON.parse(st.controls || "{}")[name];
+  if (!r || r[2] <= 0 || r[3] <= 0) fail(`the page reports no "${name}" control: ${st.controls}`);
+  return r;
+}
+
+// Fraction of the pixels of region r that differ between two screenshots.
+async function changedFraction(page, a, b, r) {
+  return page.evaluate(
+    async ({ a, b, r }) => {
+      const pixels = async (b64) => {
+        const img = new Image();
+        img.src = "data:image/png;base64," + b64;
+        await img.decode();
+        const c = document.createElement("canvas");
+        c.width = img.width;
+        c.height = img.height;
+        const g = c.getContext("2d");
+        g.drawImage(img, 0, 0);
+        const [x, y, w, h] = r.map(Math.round);
+        return g.getImageData(x, y, w, h).data;
+      };
+      const [pa, pb] = [await pixels(a), await pixels(b)];
+      let changed = 0;
+      for (let i = 0; i < pa.length; i += 4) {
+        const d =
+          Math.abs(pa[i] - pb[i]) + Math.abs(pa[i + 1] - pb[i + 1]) + Math.abs(pa[i + 2] - pb[i + 2]);
+        if (d > 24) changed++;
+      }
+      return changed / (pa.length / 4);
+    },
+    { a: a.toString("base64"), b: b.toString("base64"), r }
+  );
+}
+
+async function waitFor(page, predicate, arg, what) {
+  try {
+    await page.waitForFunction(predicate, arg, { timeout: 30000, polling: 20 });
+  } catch (e) {
+    const st = await status(page);
+    fail(`${what} did not happen: ${st.title} ${JSON.stringify(st)}`);
+  }
+  return status(page);
 }
 
 // Colour statistics of a screenshot region, decoded by the browser itself.
@@ -86,6 +133,7 @@ async function checkDrawn(page, file, viewRect) {
   if (s.colours < 24 || s.non_background_fraction < 0.03) {
     fail(`the 3D view looks blank in ${file}: ${JSON.stringify(s)}`);
   }
+  s.png = png;
   return s;
 }
 
@@ -157,10 +205,11 @@ async function main() {
     // let the converged fields reach the screen
     await page.waitForTimeout(300);
     report.first_view = await checkDrawn(page, path.join(outDir, "web-first.png"), view);
+    delete report.first_view.png;
 
     let last = first;
     for (let i = 0; i < moves; i++) {
-      const rail = rect(last.frictionRail, "friction slider");
+      const rail = control(last, "friction");
       const frac = FRACTIONS[i % FRACTIONS.length];
       const x = rail[0] + frac * rail[2];
       const y = rail[1] + rail[3] / 2;
@@ -191,8 +240,47 @@ async function main() {
       last = st;
     }
     await page.waitForTimeout(300);
-    report.after_view = await checkDrawn(page, path.join(outDir, "web-after.png"), view);
-    report.title = (await status(page)).title;
+    const after = await checkDrawn(page, path.join(outDir, "web-after.png"), view);
+
+    // section on: the cut changes the picture
+    const box = control(last, "section");
+    await page.mouse.click(box[0] + box[2] / 2, box[1] + box[3] / 2);
+    last = await waitFor(
+      page,
+      () => document.getElementById("lopin-status").dataset.section === "true",
+      null,
+      "switching the section on"
+    );
+    await page.waitForTimeout(300);
+    const cut = await checkDrawn(page, path.join(outDir, "web-section.png"), view);
+    report.section_changed_fraction = await changedFraction(page, after.png, cut.png, view);
+    if (report.section_changed_fraction < 0.02) {
+      fail(`the section left the view unchanged (${report.section_changed_fraction})`);
+    }
+
+    // time scrubber at 1/5: the fields of that step reach the screen
+    const time = control(last, "time");
+    const step0 = Number(last.step);
+    await page.mouse.click(time[0] + 0.2 * time[2], time[1] + time[3] / 2);
+    last = await waitFor(
+      page,
+      (s0) => {
+        const d = document.getElementById("lopin-status").dataset;
+        return Number(d.step) !== s0 && d.shownStep === d.step && d.shownLive === "false";
+      },
+      step0,
+      "scrubbing time"
+    );
+    await page.waitForTimeout(300);
+    const later = await checkDrawn(page, path.join(outDir, "web-time.png"), view);
+    report.time_step = { from: step0, to: Number(last.step) };
+    report.time_changed_fraction = await changedFraction(page, cut.png, later.png, view);
+    if (report.time_changed_fraction < 0.02) {
+      fail(`scrubbing time left the view unchanged (${report.time_changed_fraction})`);
+    }
+    for (const s of [after, cut, later]) delete s.png;
+    report.after_view = after;
+    report.title = last.title;
   } finally {
     await browser.close();
   }

@@ -21,6 +21,8 @@ impl PageApp {
         cc: &eframe::CreationContext<'_>,
         scene: &str,
     ) -> Result<Self, Box<dyn std::error::Error + Send + Sync>> {
+        // the desktop explorer's look, whatever the browser's colour scheme
+        cc.egui_ctx.set_theme(egui::Theme::Dark);
         let app = ExplorerApp::new(cc, Options::scene(scene))?;
         Ok(PageApp {
             app,
