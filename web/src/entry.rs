@@ -42,7 +42,10 @@ async fn run() -> Result<(), String> {
             }),
         )
         .await
-        .map_err(|e| format!("cannot start the explorer: {e:?}"))
+        .map_err(|e| {
+            let reason = e.as_string().unwrap_or_else(|| format!("{e:?}"));
+            format!("{reason} (the page opens built-in scenes only: ?scene=NAME)")
+        })
 }
 
 /// `?scene=NAME` in the page address, else [`DEFAULT_SCENE`].
