@@ -15,14 +15,7 @@ source scripts/web-tools.sh
 OUT="${WEB_BENCH_OUT:-target/web-bench}"
 rm -rf "$OUT"
 mkdir -p "$OUT"
-PORT=$(python3 -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
-python3 -m http.server --bind 127.0.0.1 --directory dist "$PORT" >"$OUT/server.log" 2>&1 &
-SERVER=$!
-trap 'kill $SERVER 2>/dev/null || true' EXIT
-for _ in $(seq 50); do
-    python3 -c "import urllib.request; urllib.request.urlopen('http://127.0.0.1:$PORT/')" 2>/dev/null && break
-    sleep 0.1
-done
+serve_dist "$OUT/server.log"
 for i in $(seq "${LOADS:-3}"); do
     node web/e2e/explorer.cjs "http://127.0.0.1:$PORT/" "$OUT/load-$i" "${MOVES:-8}" >/dev/null
 done

@@ -63,3 +63,18 @@ if [ "$need_npm" = 1 ]; then
     npm install --silent --no-audit --no-fund --prefix "$WEB_TOOLS/npm" "${npm_pkgs[@]}" >/dev/null
 fi
 export WEB_TOOLS
+
+# serve_dist LOG: serves dist/ on a free port of 127.0.0.1 until the calling script exits; sets
+# PORT once the server answers.
+serve_dist() {
+    PORT=$(python3 -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
+    python3 -m http.server --bind 127.0.0.1 --directory "$ROOT/dist" "$PORT" >"$1" 2>&1 &
+    local server=$!
+    trap "kill $server 2>/dev/null || true" EXIT
+    for _ in $(seq 50); do
+        python3 -c "import urllib.request; urllib.request.urlopen('http://127.0.0.1:$PORT/')" 2>/dev/null && return 0
+        sleep 0.1
+    done
+    echo "web: the server of dist/ does not answer on 127.0.0.1:$PORT" >&2
+    return 1
+}
