@@ -13,7 +13,7 @@ use lopin_core::counters::{Instant, StageTimes};
 use lopin_core::post::ContactHistory;
 use lopin_core::Problem;
 use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::mpsc::{channel, Receiver, Sender};
+use std::sync::mpsc::{channel, Receiver};
 use std::sync::Arc;
 
 /// A request from the UI.
@@ -113,7 +113,7 @@ pub struct Worker {
 enum Link {
     /// A solver thread (desktop).
     #[cfg(not(target_arch = "wasm32"))]
-    Thread(Sender<Command>),
+    Thread(std::sync::mpsc::Sender<Command>),
     /// The service itself, advanced from [`Worker::poll`] (browser).
     Inline {
         service: Option<Box<Service>>,
@@ -135,105 +135,59 @@ impl Worker {
     /// Starts the worker for a built problem; `wake` is called after each event so the UI can
     /// repaint. Converged solves go to the recorder in `recorder` whenever it holds one. On the
     /// desktop the factorizations are computed on the solver thread, so the UI never waits for
-    /// them; a failure arrives as [`Event::Error`].
+    /// them; a failure arrives as [`Event::Error`]. In the browser this is
+    /// [`Worker::spawn_inline`].
     pub fn spawn(
         problem: Problem,
         settings: lopin_core::Settings,
         wake: Arc<dyn Fn() + Send + Sync>,
         recorder: RecorderSlot,
     ) -> lopin_core::Result<Worker> {
-        settings.validate()?;
-        let (etx, erx) = channel();
-        let display_step = Arc::new(AtomicUsize::new(0));
-        let link = Self::link(problem, settings, wake, recorder, display_step.clone(), etx)?;
-        Ok(Worker {
-            events: erx,
-            pending: Default::default(),
-            display_step,
-            generation: 0,
-            link,
-        })
-    }
-
-    #[cfg(not(target_arch = "wasm32"))]
-    fn link(
-        problem: Problem,
-        settings: lopin_core::Settings,
-        wake: Arc<dyn Fn() + Send + Sync>,
-        recorder: RecorderSlot,
-        display_step: Arc<AtomicUsize>,
-        events: Sender<Event>,
-    ) -> lopin_core::Result<Link> {
-        let (ctx, crx) = channel();
-        std::thread::Builder::new()
-            .name("lopin-solver".into())
-            .spawn(move || {
-                if let Some(mut service) =
-                    Service::start(problem, settings, recorder, display_step, events, wake)
-                {
-                    serve(&mut service, &crx);
-                }
-            })
-            .map_err(|e| lopin_core::LopinError::setting("thread", format!("cannot start: {e}")))?;
-        Ok(Link::Thread(ctx))
-    }
-
-    #[cfg(target_arch = "wasm32")]
-    fn link(
-        problem: Problem,
-        settings: lopin_core::Settings,
-        wake: Arc<dyn Fn() + Send + Sync>,
-        recorder: RecorderSlot,
-        display_step: Arc<AtomicUsize>,
-        events: Sender<Event>,
-    ) -> lopin_core::Result<Link> {
-        Ok(Self::inline_link(
-            problem,
-            settings,
-            wake,
-            recorder,
-            display_step,
-            events,
-        ))
-    }
-
-    fn inline_link(
-        problem: Problem,
-        settings: lopin_core::Settings,
-        wake: Arc<dyn Fn() + Send + Sync>,
-        recorder: RecorderSlot,
-        display_step: Arc<AtomicUsize>,
-        events: Sender<Event>,
-    ) -> Link {
-        // factorized here, on the calling thread: a page has no other
-        let service = Service::start(problem, settings, recorder, display_step, events, wake);
-        Link::Inline {
-            service: service.map(Box::new),
-            queue: Vec::new(),
-            budget_ms: INLINE_BUDGET_MS,
-            spent_ms: 0.0,
-        }
+        #[cfg(not(target_arch = "wasm32"))]
+        return Self::with_link(problem, settings, wake, recorder, thread_link);
+        #[cfg(target_arch = "wasm32")]
+        return Self::spawn_inline(problem, settings, wake, recorder);
     }
 
     /// The worker the browser uses, on any platform: no thread; the solver is advanced inside
     /// [`Worker::poll`] for up to [`INLINE_BUDGET_MS`] at a time (the factorizations are
-    /// computed here, before it returns).
+    /// computed here, before it returns: a page has no other thread).
     pub fn spawn_inline(
         problem: Problem,
         settings: lopin_core::Settings,
         wake: Arc<dyn Fn() + Send + Sync>,
         recorder: RecorderSlot,
     ) -> lopin_core::Result<Worker> {
+        Self::with_link(problem, settings, wake, recorder, |start| {
+            Ok(Link::Inline {
+                service: start().map(Box::new),
+                queue: Vec::new(),
+                budget_ms: INLINE_BUDGET_MS,
+                spent_ms: 0.0,
+            })
+        })
+    }
+
+    /// The worker whose service `link` starts (where it runs is the link's choice).
+    fn with_link(
+        problem: Problem,
+        settings: lopin_core::Settings,
+        wake: Arc<dyn Fn() + Send + Sync>,
+        recorder: RecorderSlot,
+        link: impl FnOnce(StartService) -> lopin_core::Result<Link>,
+    ) -> lopin_core::Result<Worker> {
         settings.validate()?;
-        let (etx, erx) = channel();
+        let (events, erx) = channel();
         let display_step = Arc::new(AtomicUsize::new(0));
-        let link = Self::inline_link(problem, settings, wake, recorder, display_step.clone(), etx);
+        let shown = display_step.clone();
+        let start: StartService =
+            Box::new(move || Service::start(problem, settings, recorder, shown, events, wake));
         Ok(Worker {
             events: erx,
             pending: Default::default(),
             display_step,
             generation: 0,
-            link,
+            link: link(start)?,
         })
     }
 
@@ -359,6 +313,24 @@ impl Worker {
     pub fn generation(&self) -> u64 {
         self.generation
     }
+}
+
+/// Starts the service (factorizes); None when that failed (the error was sent as an event).
+type StartService = Box<dyn FnOnce() -> Option<Service> + Send>;
+
+/// A solver thread running the service.
+#[cfg(not(target_arch = "wasm32"))]
+fn thread_link(start: StartService) -> lopin_core::Result<Link> {
+    let (ctx, crx) = channel();
+    std::thread::Builder::new()
+        .name("lopin-solver".into())
+        .spawn(move || {
+            if let Some(mut service) = start() {
+                serve(&mut service, &crx);
+            }
+        })
+        .map_err(|e| lopin_core::LopinError::setting("thread", format!("cannot start: {e}")))?;
+    Ok(Link::Thread(ctx))
 }
 
 /// The solver thread: blocks for a request when idle, otherwise drains new requests between

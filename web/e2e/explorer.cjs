@@ -54,10 +54,21 @@ function control(st, name) {
   return r;
 }
 
-// Fraction of the pixels of region r that differ between two screenshots.
-async function changedFraction(page, a, b, r) {
+async function waitFor(page, predicate, arg, what) {
+  try {
+    await page.waitForFunction(predicate, arg, { timeout: 30000, polling: 20 });
+  } catch (e) {
+    const st = await status(page);
+    fail(`${what} did not happen: ${st.title} ${JSON.stringify(st)}`);
+  }
+  return status(page);
+}
+
+// Region r of one or two screenshots, decoded by the browser itself: colour statistics of the
+// first and, given a second, the fraction of the region's pixels that differ between them.
+async function imageStats(page, pngs, r) {
   return page.evaluate(
-    async ({ a, b, r }) => {
+    async ({ pngs, r }) => {
       const pixels = async (b64) => {
         const img = new Image();
         img.src = "data:image/png;base64," + b64;
@@ -70,43 +81,7 @@ async function changedFraction(page, a, b, r) {
         const [x, y, w, h] = r.map(Math.round);
         return g.getImageData(x, y, w, h).data;
       };
-      const [pa, pb] = [await pixels(a), await pixels(b)];
-      let changed = 0;
-      for (let i = 0; i < pa.length; i += 4) {
-        const d =
-          Math.abs(pa[i] - pb[i]) + Math.abs(pa[i + 1] - pb[i + 1]) + Math.abs(pa[i + 2] - pb[i + 2]);
-        if (d > 24) changed++;
-      }
-      return changed / (pa.length / 4);
-    },
-    { a: a.toString("base64"), b: b.toString("base64"), r }
-  );
-}
-
-async function waitFor(page, predicate, arg, what) {
-  try {
-    await page.waitForFunction(predicate, arg, { timeout: 30000, polling: 20 });
-  } catch (e) {
-    const st = await status(page);
-    fail(`${what} did not happen: ${st.title} ${JSON.stringify(st)}`);
-  }
-  return status(page);
-}
-
-// Colour statistics of a screenshot region, decoded by the browser itself.
-async function regionStats(page, png, r) {
-  return page.evaluate(
-    async ({ b64, r }) => {
-      const img = new Image();
-      img.src = "data:image/png;base64," + b64;
-      await img.decode();
-      const c = document.createElement("canvas");
-      c.width = img.width;
-      c.height = img.height;
-      const g = c.getContext("2d");
-      g.drawImage(img, 0, 0);
-      const [x, y, w, h] = r.map(Math.round);
-      const d = g.getImageData(x, y, w, h).data;
+      const [d, other] = await Promise.all(pngs.map(pixels));
       const counts = new Map();
       for (let i = 0; i < d.length; i += 4) {
         const key = ((d[i] >> 3) << 10) | ((d[i + 1] >> 3) << 5) | (d[i + 2] >> 3);
@@ -114,20 +89,36 @@ async function regionStats(page, png, r) {
       }
       let background = 0;
       for (const n of counts.values()) background = Math.max(background, n);
-      const pixels = d.length / 4;
-      return {
-        pixels,
+      const n = d.length / 4;
+      const stats = {
+        pixels: n,
         colours: counts.size,
-        non_background_fraction: 1 - background / pixels,
+        non_background_fraction: 1 - background / n,
       };
+      if (other) {
+        let changed = 0;
+        for (let i = 0; i < d.length; i += 4) {
+          const diff =
+            Math.abs(d[i] - other[i]) +
+            Math.abs(d[i + 1] - other[i + 1]) +
+            Math.abs(d[i + 2] - other[i + 2]);
+          if (diff > 24) changed++;
+        }
+        stats.changed_fraction = changed / n;
+      }
+      return stats;
     },
-    { b64: png.toString("base64"), r }
+    { pngs: pngs.map((p) => p.toString("base64")), r }
   );
+}
+
+async function changedFraction(page, a, b, r) {
+  return (await imageStats(page, [a, b], r)).changed_fraction;
 }
 
 async function checkDrawn(page, file, viewRect) {
   const png = await page.screenshot({ path: file });
-  const s = await regionStats(page, png, viewRect);
+  const s = await imageStats(page, [png], viewRect);
   // a drawn view has the coloured mesh (viridis), the legend and the axes: many colours and a
   // good share of the view off the background
   if (s.colours < 24 || s.non_background_fraction < 0.03) {
