@@ -19,8 +19,10 @@ pub struct IterationRecord {
     pub eta: f64,
     /// Seconds in the local stage.
     pub local_s: f64,
-    /// Seconds in the linear stage.
+    /// Seconds in the linear stage (macro problem included).
     pub linear_s: f64,
+    /// Of which seconds in the macro problem (right-hand side, solve; METHOD §9 steps 2–3).
+    pub macro_s: f64,
     /// Substructure linear stages skipped because their inputs did not change.
     pub skipped: usize,
 }

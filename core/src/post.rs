@@ -24,7 +24,7 @@ pub fn replay(
 ) {
     let p = solver.problem();
     let sub = &p.subs[i];
-    let factor = &solver.factors()[i];
+    let factor = solver.factor(i);
     let mut work = LinearWork::new(sub, factor, p.time.dt);
     let mut out = TraceHistory::zeros(sub.trace_len(), p.time.steps);
     let h0 = &sol.state.subs[i];

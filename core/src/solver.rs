@@ -6,12 +6,15 @@
 //! threads advance a solve a few iterations at a time.
 
 mod run;
+mod two_scale;
 pub use run::SolveRun;
 
 use crate::counters::{Counters, Instant, IterationRecord};
 use crate::error::{LopinError, Result};
 use crate::factor::CholeskyFactor;
 use crate::linear_stage::{IndicatorSums, LinearWork, SubState};
+use crate::macro_problem::MacroProblem;
+use crate::operator_classes::{factor_classes, Classes};
 use crate::par;
 use crate::problem::Problem;
 use crate::scene::spec::SolverSpec;
@@ -42,6 +45,10 @@ pub struct Settings {
     /// 1..m1 (false, METHOD §7): with the cumulative norm the criterion loosens as the run goes
     /// on, and the stress suite saw a 10⁴-step impact gain 20 % energy at η < 1e-3.
     pub per_step_window_norm: bool,
+    /// Two-scale linear stage: the macro problem of METHOD §9 couples all substructures at every
+    /// time step (false: the single-scale linear stage of METHOD §4).
+    #[serde(default, rename = "macro")]
+    pub two_scale: bool,
 }
 
 impl Settings {
@@ -59,6 +66,7 @@ impl Settings {
             skip_unchanged: true,
             hold_window_start: true,
             per_step_window_norm: true,
+            two_scale: spec.two_scale.unwrap_or(false),
         }
     }
 
@@ -156,7 +164,12 @@ pub struct Solution {
 pub struct Solver {
     problem: Problem,
     settings: Settings,
+    /// Substructures sharing one factorization of S.
+    classes: Classes,
+    /// One factorization per class.
     factors: Vec<CholeskyFactor>,
+    /// The macro problem (two-scale linear stage), built when first needed.
+    macro_problem: Option<MacroProblem>,
     works: Vec<LinearWork>,
     cache: Vec<Option<LinearCache>>,
     counters: Counters,
@@ -176,29 +189,41 @@ struct LinearCache {
 const UNCHANGED: f64 = 1e-12;
 
 impl Solver {
-    /// Assembles and factorizes S = 2/Δt M + Δt/2 K + k Bᵀ A B for every substructure, once.
+    /// Assembles and factorizes S = 2/Δt M + Δt/2 K + k Bᵀ A B once per class of identical
+    /// substructures ([`crate::operator_classes`]), and the macro problem if the settings ask
+    /// for the two-scale linear stage.
     pub fn new(problem: Problem, settings: Settings) -> Result<Self> {
         settings.validate()?;
         let start = Instant::now();
-        let factors = factorize(&problem, settings.k)?;
-        let dt = problem.time.dt;
-        let works = problem
-            .subs
-            .iter()
-            .zip(&factors)
-            .map(|(s, f)| LinearWork::new(s, f, dt))
-            .collect();
+        let classes = factor_classes(&problem.subs);
+        let factors = factorize(&problem, &classes, settings.k)?;
+        let works = make_works(&problem, &classes, &factors);
         let mut counters = Counters::default();
-        counters.setup_s = start.elapsed().as_secs_f64();
         let cache = vec![None; problem.subs.len()];
-        Ok(Self {
+        let mut solver = Self {
             problem,
             settings,
+            classes,
             factors,
+            macro_problem: None,
             works,
             cache,
-            counters,
-        })
+            counters: Counters::default(),
+        };
+        if settings.two_scale {
+            solver.build_macro()?;
+        }
+        counters.setup_s = start.elapsed().as_secs_f64();
+        solver.counters = counters;
+        Ok(solver)
+    }
+
+    /// Builds the macro problem for the current k (METHOD §9: homogenized operators once per
+    /// class, the global operator factorized once).
+    fn build_macro(&mut self) -> Result<()> {
+        let mp = MacroProblem::new(&self.problem, self.settings.k, &self.classes, &self.factors)?;
+        self.macro_problem = Some(mp);
+        Ok(())
     }
 
     /// The problem.
@@ -211,24 +236,22 @@ impl Solver {
         &self.settings
     }
 
-    /// Changes the settings; refactorizes only if k changed.
+    /// Changes the settings; refactorizes only if k changed, and builds the macro problem when
+    /// the two-scale stage is asked for and k changed or it was not built yet.
     pub fn set_settings(&mut self, settings: Settings) -> Result<()> {
         settings.validate()?;
+        let start = Instant::now();
         if settings.k != self.settings.k {
-            let start = Instant::now();
-            self.factors = factorize(&self.problem, settings.k)?;
-            let dt = self.problem.time.dt;
-            self.works = self
-                .problem
-                .subs
-                .iter()
-                .zip(&self.factors)
-                .map(|(s, f)| LinearWork::new(s, f, dt))
-                .collect();
-            self.counters.setup_s += start.elapsed().as_secs_f64();
+            self.factors = factorize(&self.problem, &self.classes, settings.k)?;
+            self.works = make_works(&self.problem, &self.classes, &self.factors);
             self.cache.iter_mut().for_each(|c| *c = None);
+            self.macro_problem = None;
         }
         self.settings = settings;
+        if settings.two_scale && self.macro_problem.is_none() {
+            self.build_macro()?;
+        }
+        self.counters.setup_s += start.elapsed().as_secs_f64();
         Ok(())
     }
 
@@ -278,9 +301,24 @@ impl Solver {
         &self.counters
     }
 
-    /// The factorizations of S (one per substructure).
+    /// The distinct factorizations of S (one per class of identical substructures).
     pub fn factors(&self) -> &[CholeskyFactor] {
         &self.factors
+    }
+
+    /// The factorization of substructure `i`'s operator S.
+    pub fn factor(&self, i: usize) -> &CholeskyFactor {
+        &self.factors[self.classes.of[i]]
+    }
+
+    /// Which substructures share a factorization.
+    pub fn classes(&self) -> &Classes {
+        &self.classes
+    }
+
+    /// The macro problem, if the two-scale stage has been used with the current k.
+    pub fn macro_problem(&self) -> Option<&MacroProblem> {
+        self.macro_problem.as_ref()
     }
 
     /// Solves without an observer. `start`: None for a cold start, or a previous state.
@@ -310,10 +348,11 @@ impl Solver {
     }
 }
 
-fn factorize(problem: &Problem, k: f64) -> Result<Vec<CholeskyFactor>> {
+/// Factorizes S of every class representative.
+fn factorize(problem: &Problem, classes: &Classes, k: f64) -> Result<Vec<CholeskyFactor>> {
     let dt = problem.time.dt;
-    par::map_range(problem.subs.len(), |i| {
-        let sub = &problem.subs[i];
+    par::map_range(classes.count(), |c| {
+        let sub = &problem.subs[classes.representatives[c]];
         CholeskyFactor::new(sub.ndof(), &sub.operator_triplets(dt, k)).map_err(|reason| {
             LopinError::Factorization {
                 sub: sub.name.clone(),
@@ -323,4 +362,14 @@ fn factorize(problem: &Problem, k: f64) -> Result<Vec<CholeskyFactor>> {
     })
     .into_iter()
     .collect()
+}
+
+/// Scratch buffers of every substructure's linear stage.
+fn make_works(problem: &Problem, classes: &Classes, factors: &[CholeskyFactor]) -> Vec<LinearWork> {
+    problem
+        .subs
+        .iter()
+        .enumerate()
+        .map(|(i, s)| LinearWork::new(s, &factors[classes.of[i]], problem.time.dt))
+        .collect()
 }

@@ -187,6 +187,32 @@ fn case_1d_iteration_counts_at_k_equal_z() {
     }
 }
 
+/// 1d with the macro problem (METHOD §9, k = Z, μ = 1): 3/4/7/13 ± 1 iterations for 2/4/8/16
+/// substructures. In 3D the bar's square interfaces carry 9 macro functions instead of 1D's
+/// one; with ν = 0 the extra ones are not loaded, so the counts must be METHOD's.
+#[test]
+fn case_1d_iteration_counts_with_the_macro_problem() {
+    for (nsub, expected) in [(2, 3), (4, 4), (8, 7), (16, 13)] {
+        let bar = case_1a(nsub);
+        let (solver, sol) = solve(&bar.spec(), |s| {
+            s.mu = 1.0;
+            s.two_scale = true;
+        });
+        let mp = solver.macro_problem().expect("macro problem built");
+        println!(
+            "1d + macro: {nsub} subs: {} iterations (METHOD: {expected}), {} macro dofs",
+            sol.iterations, mp.size
+        );
+        assert_eq!(mp.size, 9 * (nsub - 1));
+        assert!(sol.converged);
+        assert!(
+            sol.iterations.abs_diff(expected) <= 1,
+            "{nsub} subs: {} iterations, METHOD says {expected}",
+            sol.iterations
+        );
+    }
+}
+
 /// Plain mean of the nodal velocities (the definition behind METHOD's v_A, v_B).
 fn mean_velocity(v: &[f64]) -> f64 {
     v.iter().sum::<f64>() / v.len() as f64

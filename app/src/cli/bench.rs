@@ -76,15 +76,20 @@ fn triangular_solves(solver: &lopin_core::Solver) -> f64 {
     let mut times: Vec<f64> = (0..5)
         .map(|_| {
             let start = Instant::now();
+            let threads = std::thread::available_parallelism().map_or(1, |t| t.get());
             std::thread::scope(|scope| {
-                for (sub, factor) in p.subs.iter().zip(solver.factors()) {
+                for t in 0..threads {
                     scope.spawn(move || {
-                        let mut scratch = factor.scratch();
-                        let mut x: Vec<f64> = (0..sub.ndof()).map(|i| (i as f64).sin()).collect();
-                        for _ in 0..n {
-                            factor.solve_in_place(&mut x, &mut scratch);
+                        for (i, sub) in p.subs.iter().enumerate().skip(t).step_by(threads) {
+                            let factor = solver.factor(i);
+                            let mut scratch = factor.scratch();
+                            let mut x: Vec<f64> =
+                                (0..sub.ndof()).map(|i| (i as f64).sin()).collect();
+                            for _ in 0..n {
+                                factor.solve_in_place(&mut x, &mut scratch);
+                            }
+                            std::hint::black_box(&x);
                         }
-                        std::hint::black_box(&x);
                     });
                 }
             });

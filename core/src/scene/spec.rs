@@ -67,6 +67,9 @@ pub struct SolverSpec {
     /// Time-window length in steps (absent: whole interval).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub window: Option<usize>,
+    /// Two-scale linear stage with the macro problem of METHOD §9 (absent: off).
+    #[serde(default, rename = "macro", skip_serializing_if = "Option::is_none")]
+    pub two_scale: Option<bool>,
 }
 
 /// A named material.

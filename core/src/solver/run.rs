@@ -13,12 +13,14 @@
 //! [`super::Settings::hold_window_start`]), a non-finite η or the iteration limit ends the solve
 //! unconverged.
 
-use super::{Control, Iterate, LinearCache, Solution, Solver, UNCHANGED};
+use super::{two_scale, Control, Iterate, LinearCache, Solution, Solver, UNCHANGED};
 use crate::counters::{Instant, IterationRecord};
 use crate::error::Result;
+use crate::factor::CholeskyFactor;
 use crate::interface::Law;
 use crate::linear_stage::{linear_stage, IndicatorSums, LinearInput, LinearWork, SubState};
 use crate::local_stage::{local_stage, ContactRunning, LocalInput};
+use crate::operator_classes::Classes;
 use crate::par;
 use crate::state::{InterfaceState, TraceHistory};
 use crate::substructure::Substructure;
@@ -207,47 +209,35 @@ impl Solver {
             dt: p.time.dt,
             steps: (m0, m1),
         };
-        let whole = set.skip_unchanged && m0 == 1 && m1 == n;
-        let mut bundle: Vec<(&mut LinearWork, &mut TraceHistory, &mut Option<LinearCache>)> = self
-            .works
-            .iter_mut()
-            .zip(run.s_new.subs.iter_mut())
-            .zip(self.cache.iter_mut())
-            .map(|((w, o), c)| (w, o, c))
-            .collect();
-        let (subs, factors, states, hats) = (&p.subs, &self.factors, &run.sub_states, &run.hats);
-        let results = par::map_mut(&mut bundle, |i, (work, out, cache)| {
-            let sub = &subs[i];
-            let hat = whole.then(|| gather_hat(sub, hats));
-            if let (Some(h), Some(c)) = (&hat, cache.as_ref()) {
-                if unchanged(h, &c.hat) {
-                    out.f.copy_from_slice(&c.out.f);
-                    out.w.copy_from_slice(&c.out.w);
-                    work.state.clone_from(&c.end);
-                    return (c.sums, true);
-                }
-            }
-            work.state.clone_from(&states[i]);
-            let sums = linear_stage(sub, &factors[i], work, &lin, out, None);
-            match (cache.as_mut(), hat) {
-                (Some(c), Some(hat)) => {
-                    c.hat = hat;
-                    c.out.clone_from(out);
-                    c.sums = sums;
-                    c.end.clone_from(&work.state);
-                }
-                (None, Some(hat)) => {
-                    **cache = Some(LinearCache {
-                        hat,
-                        out: (*out).clone(),
-                        sums,
-                        end: work.state.clone(),
-                    })
-                }
-                (_, None) => **cache = None,
-            }
-            (sums, false)
-        });
+        let (results, macro_s) = if let (true, Some(mp)) = (set.two_scale, &self.macro_problem) {
+            // METHOD §9: all substructures in lock-step with the macro problem
+            let ts = two_scale::TwoScale {
+                subs: &p.subs,
+                classes: &self.classes,
+                factors: &self.factors,
+                macro_problem: mp,
+            };
+            let (sums, macro_s) = two_scale::linear_stage_two_scale(
+                &ts,
+                &mut self.works,
+                &run.sub_states,
+                &lin,
+                &mut run.s_new.subs,
+            );
+            self.cache.iter_mut().for_each(|c| *c = None);
+            (vec![(sums, false)], macro_s)
+        } else {
+            let whole = set.skip_unchanged && m0 == 1 && m1 == n;
+            let ss = SingleScale {
+                subs: &p.subs,
+                classes: &self.classes,
+                factors: &self.factors,
+                states: &run.sub_states,
+                whole,
+            };
+            let out = ss.run(&mut self.works, &mut self.cache, &mut run.s_new.subs, &lin);
+            (out, 0.0)
+        };
         let skipped = results.iter().filter(|r| r.1).count();
         // 3. error indicator
         let mut last = IndicatorSums::default();
@@ -274,6 +264,7 @@ impl Solver {
             eta: run.eta,
             local_s,
             linear_s,
+            macro_s,
             skipped,
         };
         self.counters.iterations.push(record);
@@ -341,6 +332,69 @@ impl Solver {
             converged: run.converged && run.done && !run.cancelled,
             cancelled: run.cancelled,
         }
+    }
+}
+
+/// The single-scale linear stage (METHOD §4): every substructure independent, in parallel.
+struct SingleScale<'a> {
+    subs: &'a [Substructure],
+    classes: &'a Classes,
+    factors: &'a [CholeskyFactor],
+    /// State of every substructure at the window start.
+    states: &'a [SubState],
+    /// Whether the window is the whole interval (then unchanged substructures are skipped).
+    whole: bool,
+}
+
+impl SingleScale<'_> {
+    /// Marches the window of `lin` for every substructure, skipping those whose whole-interval
+    /// inputs did not change. Returns each one's η sums and whether it was skipped.
+    fn run(
+        &self,
+        works: &mut [LinearWork],
+        cache: &mut [Option<LinearCache>],
+        out: &mut [TraceHistory],
+        lin: &LinearInput<'_>,
+    ) -> Vec<(IndicatorSums, bool)> {
+        let mut bundle: Vec<(&mut LinearWork, &mut TraceHistory, &mut Option<LinearCache>)> = works
+            .iter_mut()
+            .zip(out.iter_mut())
+            .zip(cache.iter_mut())
+            .map(|((w, o), c)| (w, o, c))
+            .collect();
+        par::map_mut(&mut bundle, |i, (work, out, cache)| {
+            let sub = &self.subs[i];
+            let hat = self.whole.then(|| gather_hat(sub, lin.hats));
+            if let (Some(h), Some(c)) = (&hat, cache.as_ref()) {
+                if unchanged(h, &c.hat) {
+                    out.f.copy_from_slice(&c.out.f);
+                    out.w.copy_from_slice(&c.out.w);
+                    work.state.clone_from(&c.end);
+                    return (c.sums, true);
+                }
+            }
+            work.state.clone_from(&self.states[i]);
+            let factor = &self.factors[self.classes.of[i]];
+            let sums = linear_stage(sub, factor, work, lin, out, None);
+            match (cache.as_mut(), hat) {
+                (Some(c), Some(hat)) => {
+                    c.hat = hat;
+                    c.out.clone_from(out);
+                    c.sums = sums;
+                    c.end.clone_from(&work.state);
+                }
+                (None, Some(hat)) => {
+                    **cache = Some(LinearCache {
+                        hat,
+                        out: (*out).clone(),
+                        sums,
+                        end: work.state.clone(),
+                    })
+                }
+                (_, None) => **cache = None,
+            }
+            (sums, false)
+        })
     }
 }
 

@@ -1,0 +1,295 @@
+//! The macro problem of the two-scale linear stage (METHOD §9): the macro bases of all internal
+//! interfaces (perfect and contact), the homogenized operators
+//!
+//!   Z_E = S⁻¹ Bᵀ A Ê,   L_E = k I − k² Êᵀ A B Z_E,
+//!
+//! computed once per class of identical substructures ([`crate::operator_classes`]), and the
+//! global macro operator L = Σ_E L_E over the macro dofs (9 per planar interface), assembled and
+//! factorized once. Per time step: the macro right-hand side b = −Σ_E Êᵀ A F¹ (step 2), the
+//! solve L α = b (step 3), and per substructure the correction data of step 4.
+
+use crate::error::{LopinError, Result};
+use crate::factor::{CholeskyFactor, SolveScratch};
+use crate::macro_basis::MacroBasis;
+use crate::operator_classes::{homogenized_classes, Classes};
+use crate::par;
+use crate::problem::Problem;
+use faer::sparse::Triplet;
+
+/// One macro side of a substructure: an internal interface on its trace.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MacroSide {
+    /// Interface index.
+    pub interface: usize,
+    /// Offset of the side in the substructure's trace.
+    pub trace_offset: usize,
+    /// Offset of the interface's functions among the substructure's macro unknowns.
+    pub local: usize,
+}
+
+/// The homogenized operator of a class of substructures.
+#[derive(Debug, Clone)]
+pub struct Homogenized {
+    /// Macro unknowns n_M,E.
+    pub count: usize,
+    /// Z_E, dofs × n_M,E, column-major.
+    pub z: Vec<f64>,
+    /// L_E, n_M,E × n_M,E, row-major (symmetric).
+    pub l: Vec<f64>,
+}
+
+/// The assembled and factorized macro problem.
+#[derive(Debug)]
+pub struct MacroProblem {
+    /// Macro basis of every interface (None: boundary interfaces carry no macro unknowns).
+    pub bases: Vec<Option<MacroBasis>>,
+    /// First global macro dof of every interface (meaningful where it has a basis).
+    pub offsets: Vec<usize>,
+    /// Number of global macro dofs.
+    pub size: usize,
+    /// Macro sides of every substructure, in trace order.
+    pub sides: Vec<Vec<MacroSide>>,
+    /// Homogenized class of every substructure and the class representatives.
+    pub classes: Classes,
+    /// Homogenized operator of every class.
+    pub homogenized: Vec<Homogenized>,
+    /// Cholesky factor of L.
+    factor: CholeskyFactor,
+    /// Non-zeros of the assembled L (lower triangle).
+    pub operator_nnz: usize,
+}
+
+impl MacroProblem {
+    /// Builds the macro bases, the homogenized operators (one per class; `factors[c]` is the
+    /// factorization of S of the substructures of `factor_classes` class c) and the factorized
+    /// global operator.
+    pub fn new(
+        problem: &Problem,
+        k: f64,
+        factor_classes: &Classes,
+        factors: &[CholeskyFactor],
+    ) -> Result<Self> {
+        let factor_of = |s: usize| &factors[factor_classes.of[s]];
+        let mut offsets = vec![0; problem.interfaces.len()];
+        let mut size = 0;
+        let bases: Vec<Option<MacroBasis>> = problem
+            .interfaces
+            .iter()
+            .enumerate()
+            .map(|(i, iface)| {
+                (iface.sides.len() == 2).then(|| {
+                    let b = MacroBasis::of_interface(
+                        iface,
+                        &problem.subs[iface.sides[0].sub].mesh.nodes,
+                    );
+                    offsets[i] = size;
+                    size += b.count;
+                    b
+                })
+            })
+            .collect();
+        let sides: Vec<Vec<MacroSide>> = problem
+            .subs
+            .iter()
+            .map(|sub| {
+                let mut local = 0;
+                sub.sides
+                    .iter()
+                    .filter_map(|&(i, side)| {
+                        let b = bases[i].as_ref()?;
+                        let s = MacroSide {
+                            interface: i,
+                            trace_offset: problem.interfaces[i].sides[side].offset,
+                            local,
+                        };
+                        local += b.count;
+                        Some(s)
+                    })
+                    .collect()
+            })
+            .collect();
+        let classes = homogenized_classes(&problem.subs, factor_classes, &bases, &|s| {
+            sides[s]
+                .iter()
+                .map(|m| (m.interface, m.trace_offset))
+                .collect()
+        });
+        let homogenized = par::map_range(classes.count(), |c| {
+            let s = classes.representatives[c];
+            homogenize(problem, s, &sides[s], &bases, k, factor_of(s))
+        });
+        let mut triplets = Vec::new();
+        for (s, sub_sides) in sides.iter().enumerate() {
+            let h = &homogenized[classes.of[s]];
+            let global = global_dofs(sub_sides, &bases, &offsets);
+            for (a, &ga) in global.iter().enumerate() {
+                for (b, &gb) in global.iter().enumerate() {
+                    if ga >= gb {
+                        triplets.push(Triplet::new(ga, gb, h.l[a * h.count + b]));
+                    }
+                }
+            }
+        }
+        let operator_nnz = {
+            let mut keys: Vec<(usize, usize)> = triplets.iter().map(|t| (t.row, t.col)).collect();
+            keys.sort_unstable();
+            keys.dedup();
+            keys.len()
+        };
+        let factor = if size == 0 {
+            CholeskyFactor::new(1, &[Triplet::new(0, 0, 1.0)])
+        } else {
+            CholeskyFactor::new(size, &triplets)
+        }
+        .map_err(|reason| LopinError::Factorization {
+            sub: "macro problem".into(),
+            reason,
+        })?;
+        Ok(Self {
+            bases,
+            offsets,
+            size,
+            sides,
+            classes,
+            homogenized,
+            factor,
+            operator_nnz,
+        })
+    }
+
+    /// Scratch for [`MacroProblem::solve_in_place`].
+    pub fn scratch(&self) -> SolveScratch {
+        self.factor.scratch()
+    }
+
+    /// α ← L⁻¹ b (METHOD §9 step 3).
+    pub fn solve_in_place(&self, b: &mut [f64], scratch: &mut SolveScratch) {
+        if self.size > 0 {
+            self.factor.solve_in_place(b, scratch);
+        }
+    }
+
+    /// Stored values of the Cholesky factor of L.
+    pub fn factor_nnz(&self) -> usize {
+        self.factor.factor_nnz()
+    }
+
+    /// The global macro dof of each of substructure `s`'s macro unknowns.
+    pub fn global_dofs(&self, s: usize) -> Vec<usize> {
+        global_dofs(&self.sides[s], &self.bases, &self.offsets)
+    }
+
+    /// The homogenized operator of substructure `s`.
+    pub fn homogenized_of(&self, s: usize) -> &Homogenized {
+        &self.homogenized[self.classes.of[s]]
+    }
+
+    /// Macro forces Êᵀ A F of substructure `s`'s trace field `f` (its macro unknowns' order),
+    /// added into `out`.
+    pub fn project(&self, s: usize, area: &[f64], f: &[f64], out: &mut [f64]) {
+        for m in &self.sides[s] {
+            let Some(b) = &self.bases[m.interface] else {
+                continue;
+            };
+            let r = m.trace_offset..m.trace_offset + b.len;
+            b.project_add(
+                &area[r.clone()],
+                &f[r],
+                1.0,
+                &mut out[m.local..m.local + b.count],
+            );
+        }
+    }
+
+    /// Ê α on substructure `s`'s trace (zero off its macro sides), for its macro unknowns α.
+    pub fn expand(&self, s: usize, alpha: &[f64], trace: &mut [f64]) {
+        trace.iter_mut().for_each(|x| *x = 0.0);
+        for m in &self.sides[s] {
+            let Some(b) = &self.bases[m.interface] else {
+                continue;
+            };
+            b.expand_add(
+                &alpha[m.local..m.local + b.count],
+                &mut trace[m.trace_offset..m.trace_offset + b.len],
+            );
+        }
+    }
+}
+
+fn global_dofs(sides: &[MacroSide], bases: &[Option<MacroBasis>], offsets: &[usize]) -> Vec<usize> {
+    let mut g = Vec::new();
+    for m in sides {
+        if let Some(b) = &bases[m.interface] {
+            g.extend(offsets[m.interface]..offsets[m.interface] + b.count);
+        }
+    }
+    g
+}
+
+/// Z_E and L_E of substructure `s` (METHOD §9 "Homogenised operator").
+fn homogenize(
+    problem: &Problem,
+    s: usize,
+    sides: &[MacroSide],
+    bases: &[Option<MacroBasis>],
+    k: f64,
+    factor: &CholeskyFactor,
+) -> Homogenized {
+    let sub = &problem.subs[s];
+    let n = sub.ndof();
+    let count: usize = sides
+        .iter()
+        .filter_map(|m| bases[m.interface].as_ref().map(|b| b.count))
+        .sum();
+    // Bᵀ A Ê, column by column
+    let mut z = vec![0.0; n * count];
+    for m in sides {
+        let Some(b) = &bases[m.interface] else {
+            continue;
+        };
+        for c in 0..b.count {
+            let col = &mut z[(m.local + c) * n..(m.local + c + 1) * n];
+            for (j, e) in b.column(c).iter().enumerate() {
+                let t = m.trace_offset + j;
+                col[sub.trace_dofs[t]] += sub.trace_area[t] * e;
+            }
+        }
+    }
+    if count > 0 {
+        factor.solve_many_in_place(&mut z, count);
+    }
+    // L_E = k I − k² Êᵀ A B Z_E
+    let mut l = vec![0.0; count * count];
+    for a in 0..count {
+        l[a * count + a] = k;
+    }
+    for m in sides {
+        let Some(b) = &bases[m.interface] else {
+            continue;
+        };
+        for c in 0..b.count {
+            let e = b.column(c);
+            for col in 0..count {
+                let zc = &z[col * n..(col + 1) * n];
+                let s: f64 = e
+                    .iter()
+                    .enumerate()
+                    .map(|(j, ej)| {
+                        let t = m.trace_offset + j;
+                        ej * sub.trace_area[t] * zc[sub.trace_dofs[t]]
+                    })
+                    .sum();
+                l[(m.local + c) * count + col] -= k * k * s;
+            }
+        }
+    }
+    // symmetric in exact arithmetic: remove the rounding asymmetry
+    for a in 0..count {
+        for b in 0..a {
+            let mean = 0.5 * (l[a * count + b] + l[b * count + a]);
+            l[a * count + b] = mean;
+            l[b * count + a] = mean;
+        }
+    }
+    Homogenized { count, z, l }
+}
