@@ -19,6 +19,7 @@ pub mod compare;
 pub mod counters;
 pub mod detect;
 pub mod error;
+pub mod estimate;
 pub mod factor;
 pub mod hex8;
 pub mod interface;

@@ -2,6 +2,9 @@
 //! (METHOD §1–§2), its initial velocity, and its trace: the interface dofs that B selects,
 //! with their areas A (METHOD §11 layout: sides concatenated, node-major, component-minor).
 
+use std::collections::HashMap;
+use std::sync::Arc;
+
 use faer::sparse::Triplet;
 
 use crate::hex8;
@@ -24,8 +27,9 @@ pub struct Substructure {
     pub material: Material,
     /// Lumped mass per dof (diagonal of M).
     pub mass: Vec<f64>,
-    /// Stiffness K.
-    pub stiffness: SymmetricMatrix,
+    /// Stiffness K (shared by substructures with the same mesh up to a translation and the
+    /// same material, see [`StiffnessCache`]).
+    pub stiffness: Arc<SymmetricMatrix>,
     /// Uniform initial velocity v0 (u0 = 0).
     pub initial_velocity: Vec3,
     /// Substructure dof of each trace entry (B).
@@ -34,6 +38,32 @@ pub struct Substructure {
     pub trace_area: Vec<f64>,
     /// (interface, side) pairs whose dofs make up the trace, in trace order.
     pub sides: Vec<(usize, usize)>,
+}
+
+/// Stiffness matrices already assembled, by mesh (relative to its first node, to 1e-9 of its
+/// size) and material.
+#[derive(Debug, Default)]
+pub struct StiffnessCache(HashMap<Vec<i64>, Arc<SymmetricMatrix>>);
+
+impl StiffnessCache {
+    fn key(mesh: &Mesh, material_id: usize) -> Vec<i64> {
+        let (lo, hi) = mesh.bounding_box();
+        let size = (0..3)
+            .map(|c| hi[c] - lo[c])
+            .fold(0.0f64, f64::max)
+            .max(f64::MIN_POSITIVE);
+        let origin = mesh.nodes.first().copied().unwrap_or([0.0; 3]);
+        let mut key = vec![material_id as i64, mesh.nodes.len() as i64];
+        for p in &mesh.nodes {
+            key.extend((0..3).map(|c| ((p[c] - origin[c]) / (1e-9 * size)).round() as i64));
+        }
+        for e in &mesh.elements {
+            match e {
+                Element::Hex8(n) => key.extend(n.iter().map(|&x| x as i64)),
+            }
+        }
+        key
+    }
 }
 
 impl Substructure {
@@ -46,6 +76,31 @@ impl Substructure {
         material: Material,
         initial_velocity: Vec3,
     ) -> Self {
+        Self::assemble_cached(
+            name,
+            body,
+            material_id,
+            mesh,
+            material,
+            initial_velocity,
+            &mut StiffnessCache::default(),
+        )
+    }
+
+    /// Like [`Substructure::assemble`], reusing the stiffness of an earlier substructure of the
+    /// cache with the same mesh up to a translation and the same material (a granular cube of
+    /// 648 cells assembles a handful of matrices, not 648).
+    pub fn assemble_cached(
+        name: String,
+        body: String,
+        material_id: usize,
+        mesh: Mesh,
+        material: Material,
+        initial_velocity: Vec3,
+        cache: &mut StiffnessCache,
+    ) -> Self {
+        let key = StiffnessCache::key(&mesh, material_id);
+        let shared = cache.0.get(&key).cloned();
         let n = mesh.ndof();
         let mut mass = vec![0.0; n];
         let mut triplets = Vec::with_capacity(mesh.elements.len() * 576);
@@ -53,13 +108,16 @@ impl Substructure {
             match element {
                 Element::Hex8(nodes) => {
                     let x: [Vec3; 8] = std::array::from_fn(|a| mesh.nodes[nodes[a]]);
-                    let ke = hex8::stiffness(&x, &material);
                     let me = hex8::lumped_mass(&x, &material);
                     for a in 0..8 {
                         for c in 0..3 {
                             mass[3 * nodes[a] + c] += me[a];
                         }
                     }
+                    if shared.is_some() {
+                        continue;
+                    }
+                    let ke = hex8::stiffness(&x, &material);
                     for (i, row) in ke.iter().enumerate() {
                         let gi = 3 * nodes[i / 3] + i % 3;
                         for (j, &v) in row.iter().enumerate() {
@@ -70,7 +128,11 @@ impl Substructure {
                 }
             }
         }
-        let stiffness = SymmetricMatrix::from_triplets(n, &triplets);
+        let stiffness = shared.unwrap_or_else(|| {
+            let k = Arc::new(SymmetricMatrix::from_triplets(n, &triplets));
+            cache.0.insert(key, Arc::clone(&k));
+            k
+        });
         Self {
             name,
             body,

@@ -37,6 +37,8 @@ pub struct Options {
     pub recorder: Option<RecorderFactory>,
     /// Start with recording switched on.
     pub record: bool,
+    /// Two-scale linear stage on or off (None: the scene's `solver.macro`).
+    pub two_scale: Option<bool>,
 }
 
 impl Options {
@@ -48,6 +50,7 @@ impl Options {
             measure: None,
             recorder: None,
             record: false,
+            two_scale: None,
         }
     }
 }
@@ -244,7 +247,10 @@ impl ExplorerApp {
     }
 
     fn with_context(ctx: egui::Context, options: Options, gpu: bool) -> lopin_core::Result<Self> {
-        let (spec, problem, settings, geo) = load(&options.scene)?;
+        let (spec, problem, mut settings, geo) = load(&options.scene)?;
+        if let Some(on) = options.two_scale {
+            settings.two_scale = on;
+        }
         let info = SceneInfo {
             name: spec.name.clone(),
             description: spec.description.clone(),

@@ -126,6 +126,12 @@ fn parameters(app: &mut ExplorerApp, ui: &mut egui::Ui) {
             .text("k (Pa s/m)"),
     );
     ui.add(egui::Slider::new(&mut p.mu, 0.1..=1.0).text("relaxation μ"));
+    ui.checkbox(&mut p.two_scale, "macro problem (two-scale)")
+        .on_hover_text(
+            "Two-scale linear stage (METHOD §9): 9 macro unknowns per internal interface, one \
+             global macro solve per time step. Same converged solution; fewer iterations when \
+             many substructures are crossed.",
+        );
     let mut exponent = p.tol.log10().round() as i32;
     if ui
         .add(egui::Slider::new(&mut exponent, -8..=-1).text("tolerance 10^"))

@@ -1,7 +1,8 @@
 //! The parameters the explorer lets the user move: the contact interfaces' friction coefficient
 //! and initial gap, the amplitude of the prescribed impact velocity (METHOD §5 laws), and the
-//! LATIN settings k, μ and tolerance (METHOD §3, §7). Applying them never refactorizes unless k
-//! changes.
+//! LATIN settings k, μ, tolerance and the macro problem switch (METHOD §3, §7, §9). Applying them
+//! never refactorizes unless k changes (the macro problem is built the first time it is switched
+//! on, and again after a change of k).
 
 use lopin_core::interface::{DofLaw, Law};
 use lopin_core::{Problem, Settings, Solver};
@@ -21,6 +22,8 @@ pub struct Params {
     pub mu: f64,
     /// Stopping tolerance on η.
     pub tol: f64,
+    /// Two-scale linear stage with the macro problem (METHOD §9).
+    pub two_scale: bool,
 }
 
 impl Params {
@@ -50,6 +53,7 @@ impl Params {
             k: settings.k,
             mu: settings.mu,
             tol: settings.tol,
+            two_scale: settings.two_scale,
         }
     }
 
@@ -61,6 +65,7 @@ impl Params {
         settings.k = self.k;
         settings.mu = self.mu;
         settings.tol = self.tol;
+        settings.two_scale = self.two_scale;
         solver.set_settings(settings)?;
         let changed = |a: Option<f64>, b: Option<f64>| a.filter(|&x| Some(x) != b);
         if let Some(f) = changed(self.friction, before.friction) {
@@ -93,6 +98,12 @@ impl Params {
         }
         if self.mu != before.mu {
             parts.push(format!("μ = {:.2}", self.mu));
+        }
+        if self.two_scale != before.two_scale {
+            parts.push(format!(
+                "macro {}",
+                if self.two_scale { "on" } else { "off" }
+            ));
         }
         if self.tol != before.tol {
             parts.push(format!("tol = {:.0e}", self.tol));

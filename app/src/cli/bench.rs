@@ -41,6 +41,7 @@ pub fn bench(args: &BenchArgs) -> anyhow::Result<ExitCode> {
             split: 1,
             window: None,
             max_iter: Some(args.iterations),
+            two_scale: None,
         };
         let mut prepared = prepare(&sargs)?;
         let solver = &mut prepared.solver;

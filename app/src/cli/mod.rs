@@ -5,6 +5,7 @@ mod accuracy_plot;
 mod bar_exact;
 mod bench;
 mod compare;
+mod estimate;
 mod export;
 mod outputs;
 mod plot;
@@ -35,6 +36,8 @@ enum Command {
     View(view::ViewArgs),
     /// Solve a scene (built-in name or .toml file) and print a summary.
     Run(run::RunArgs),
+    /// Memory and time a solve of a scene will need, without solving it.
+    Estimate(estimate::EstimateArgs),
     /// Solve a scene with the monolithic reference (no decomposition).
     Reference(reference::ReferenceArgs),
     /// Solve with LATIN and with the reference, and print their relative differences.
@@ -63,6 +66,7 @@ pub fn dispatch(cli: Cli) -> anyhow::Result<std::process::ExitCode> {
     match cli.command {
         Some(Command::View(args)) => view::view(&args),
         Some(Command::Run(args)) => run::run(&args),
+        Some(Command::Estimate(args)) => estimate::estimate(&args),
         Some(Command::Reference(args)) => reference::reference(&args),
         Some(Command::Compare(args)) => compare::compare_cmd(&args),
         Some(Command::Accuracy(args)) => accuracy::accuracy(&args),

@@ -32,6 +32,7 @@ impl<'a> RunReport<'a> {
     }
 
     pub fn to_json(&self) -> Value {
+        let macro_s = self.macro_seconds();
         let p = self.solver.problem();
         let set = self.solver.settings();
         let st = self.solver.counters().stage_times();
@@ -47,13 +48,19 @@ impl<'a> RunReport<'a> {
             "dt": p.time.dt,
             "settings": {
                 "k": set.k, "mu": set.mu, "tol": set.tol, "max_iter": set.max_iter,
-                "window": set.window,
+                "window": set.window, "macro": set.two_scale,
             },
+            "factorizations": self.solver.factors().len(),
+            "macro_dofs": self.solver.macro_problem().filter(|_| set.two_scale).map(|m| m.size),
+            "peak_memory_bytes": peak_memory_bytes(),
             "iterations": self.solution.iterations,
             "eta": self.solution.eta,
             "converged": self.solution.converged,
             "wall_s": self.wall_s,
-            "stages_s": { "setup": st.setup, "local": st.local, "linear": st.linear, "post": st.post },
+            "stages_s": {
+                "setup": st.setup, "local": st.local, "linear": st.linear, "macro": macro_s,
+                "post": st.post,
+            },
             "energy": energy_json(s),
             "contact": contact_json(s),
         })
@@ -87,6 +94,21 @@ impl<'a> RunReport<'a> {
                 .map_or("whole interval".to_string(), |w| format!("{w} steps")),
         );
         row(
+            "linear stage",
+            match self.solver.macro_problem().filter(|_| set.two_scale) {
+                Some(mp) => format!("two-scale ({} macro dofs)", mp.size),
+                None => "single-scale".into(),
+            },
+        );
+        row(
+            "factorizations",
+            format!(
+                "{} distinct for {} substructures",
+                self.solver.factors().len(),
+                p.subs.len()
+            ),
+        );
+        row(
             "iterations",
             format!(
                 "{}{}",
@@ -102,11 +124,37 @@ impl<'a> RunReport<'a> {
         row("time setup", format!("{:.3} s", st.setup));
         row("time local stage", format!("{:.3} s", st.local));
         row("time linear stage", format!("{:.3} s", st.linear));
+        if set.two_scale {
+            row("  of which macro", format!("{:.3} s", self.macro_seconds()));
+        }
         row("time post", format!("{:.3} s", st.post));
         row("wall time", format!("{:.3} s", self.wall_s));
+        if let Some(b) = peak_memory_bytes() {
+            row("peak memory", lopin_core::estimate::bytes(b as usize));
+        }
         out.push_str(&summary_rows(self.summary));
         out
     }
+}
+
+impl RunReport<'_> {
+    /// Seconds in the macro problem (right-hand sides and solves) over the solve.
+    fn macro_seconds(&self) -> f64 {
+        self.solver
+            .counters()
+            .iterations
+            .iter()
+            .map(|r| r.macro_s)
+            .sum()
+    }
+}
+
+/// Peak resident memory of this process (VmHWM of /proc/self/status; None where there is none).
+pub fn peak_memory_bytes() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib * 1024)
 }
 
 /// The "energy" object of a report.

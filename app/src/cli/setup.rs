@@ -4,6 +4,7 @@
 use anyhow::Context;
 use clap::Args;
 use lopin_core::counters::Instant;
+use lopin_core::estimate::Estimate;
 use lopin_core::{scene, Problem, Settings, Solver};
 
 /// Options shared by the commands that solve a scene.
@@ -35,6 +36,19 @@ pub struct SceneArgs {
     /// Iteration limit (per window).
     #[arg(long)]
     pub max_iter: Option<usize>,
+    /// Two-scale linear stage with the macro problem of METHOD §9 (default: the scene's
+    /// `solver.macro`, else off).
+    #[arg(long = "macro", value_enum)]
+    pub two_scale: Option<Switch>,
+}
+
+/// An on/off command-line switch.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Switch {
+    /// Enabled.
+    On,
+    /// Disabled.
+    Off,
 }
 
 /// A ready solver and the resolved scene.
@@ -84,6 +98,9 @@ pub fn build(args: &SceneArgs) -> anyhow::Result<Built> {
     if let Some(v) = args.max_iter {
         settings.max_iter = v;
     }
+    if let Some(v) = args.two_scale {
+        settings.two_scale = v == Switch::On;
+    }
     Ok(Built {
         spec,
         problem,
@@ -92,11 +109,24 @@ pub fn build(args: &SceneArgs) -> anyhow::Result<Built> {
     })
 }
 
-/// Loads, builds and factorizes.
+/// Loads, builds and factorizes. A large problem (over 200,000 dofs or 1 GiB) gets its memory
+/// estimate printed on stderr before the factorization, and its time estimate after.
 pub fn prepare(args: &SceneArgs) -> anyhow::Result<Prepared> {
     let built = build(args)?;
+    let early = Estimate::of(&built.problem, &built.settings);
+    let large = early.is_large();
+    if large {
+        for line in early.lines() {
+            eprintln!("estimate: {line}");
+        }
+    }
     let mut solver = Solver::new(built.problem, built.settings).context("setting up the solver")?;
     solver.add_setup_time(built.build_s);
+    if large {
+        for line in Estimate::of_solver(&solver).lines().iter().skip(1) {
+            eprintln!("estimate: {line}");
+        }
+    }
     Ok(Prepared {
         spec: built.spec,
         solver,

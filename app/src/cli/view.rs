@@ -27,6 +27,10 @@ pub struct ViewArgs {
     /// Start with "record to Rerun" switched on.
     #[arg(long)]
     pub record: bool,
+    /// Two-scale linear stage with the macro problem of METHOD §9 (default: the scene's
+    /// `solver.macro`, else off); also a checkbox in the explorer.
+    #[arg(long = "macro", value_enum)]
+    pub two_scale: Option<super::setup::Switch>,
 }
 
 impl Default for ViewArgs {
@@ -38,6 +42,7 @@ impl Default for ViewArgs {
             rerun: None,
             rerun_connect: None,
             record: false,
+            two_scale: None,
         }
     }
 }
@@ -71,6 +76,7 @@ pub fn view(args: &ViewArgs) -> anyhow::Result<std::process::ExitCode> {
         measure: args.measure.clone(),
         recorder: recorder(args)?,
         record: args.record,
+        two_scale: args.two_scale.map(|s| s == super::setup::Switch::On),
     })?;
     Ok(std::process::ExitCode::SUCCESS)
 }
