@@ -55,7 +55,8 @@ pub fn detect_interfaces(
             rule(&subs[a].body, &subs[b].body)
         }
     };
-    let diameter = model_diameter(subs);
+    let boxes: Vec<(Vec3, Vec3)> = subs.iter().map(|s| s.mesh.bounding_box()).collect();
+    let diameter = model_diameter(&boxes);
     let quantum = 1e-9 * diameter.max(f64::MIN_POSITIVE);
     let key = |c: Vec3| -> [i64; 3] { std::array::from_fn(|a| (c[a] / quantum).round() as i64) };
 
@@ -105,13 +106,14 @@ pub fn detect_interfaces(
         }
     }
 
-    // Phase 2: contact faces facing each other across a gap.
+    // Phase 2: contact faces facing each other across a gap (pairs whose bounding boxes are
+    // farther apart than the search distance are skipped before their faces are compared).
     for s in 0..subs.len() {
         for t in s + 1..subs.len() {
             let PairRule::Contact { search, .. } = pair_rule(s, t) else {
                 continue;
             };
-            if search <= 0.0 {
+            if search <= 0.0 || box_distance(&boxes[s], &boxes[t]) > search + REL_TOL * diameter {
                 continue;
             }
             for (f, face) in faces[s].iter().enumerate() {
@@ -145,7 +147,7 @@ pub fn detect_interfaces(
         }
     }
 
-    check_conforming(subs, &faces, &matched, &pair_rule)?;
+    check_conforming(subs, &boxes, &faces, &matched, &pair_rule)?;
 
     Ok(groups
         .into_iter()
@@ -325,11 +327,11 @@ fn pair_nodes(
 /// (the two touch on a face region without conforming nodes).
 fn check_conforming(
     subs: &[Substructure],
+    boxes: &[(Vec3, Vec3)],
     faces: &[Vec<Face>],
     matched: &[Vec<bool>],
     pair_rule: &dyn Fn(usize, usize) -> PairRule,
 ) -> Result<()> {
-    let boxes: Vec<(Vec3, Vec3)> = subs.iter().map(|s| s.mesh.bounding_box()).collect();
     for (s, fs) in faces.iter().enumerate() {
         for (f, face) in fs.iter().enumerate() {
             if matched[s][f] {
@@ -383,11 +385,16 @@ fn nonconforming(subs: &[Substructure], s: usize, t: usize, at: Vec3) -> LopinEr
     }
 }
 
-fn model_diameter(subs: &[Substructure]) -> f64 {
+/// Euclidean distance between two axis-aligned boxes (0 when they overlap or touch).
+fn box_distance(a: &(Vec3, Vec3), b: &(Vec3, Vec3)) -> f64 {
+    let gap: Vec3 = std::array::from_fn(|c| (b.0[c] - a.1[c]).max(a.0[c] - b.1[c]).max(0.0));
+    norm(gap)
+}
+
+fn model_diameter(boxes: &[(Vec3, Vec3)]) -> f64 {
     let mut lo = [f64::INFINITY; 3];
     let mut hi = [f64::NEG_INFINITY; 3];
-    for s in subs {
-        let (a, b) = s.mesh.bounding_box();
+    for (a, b) in boxes {
         for c in 0..3 {
             lo[c] = lo[c].min(a[c]);
             hi[c] = hi[c].max(b[c]);

@@ -127,6 +127,7 @@ impl Bar1d {
             time: self.time,
             solver: SolverSpec::default(),
             materials,
+            granular: None,
             bodies,
             interfaces,
             boundaries,

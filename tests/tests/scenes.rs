@@ -1,9 +1,14 @@
 //! Scene-level validation: files equal the registry, bad files give clear errors, every scene
 //! runs without NaN, friction changes `two-blocks`, `gap-impact` neither penetrates nor creates
-//! energy, and the decomposition, time windows and warm start do not change the converged
-//! solution beyond what the tolerance implies.
+//! energy, the decomposition, time windows and warm start do not change the converged solution
+//! beyond what the tolerance implies, and the `granular` generator gives the layout, interfaces
+//! and boundaries of SCENES.md.
 
-use lopin_core::{post, scene, Control, LopinError, Settings, Solver};
+use std::time::Instant;
+
+use lopin_core::interface::Law;
+use lopin_core::scene::granular::{self, Layout};
+use lopin_core::{post, scene, Control, LopinError, Problem, Settings, Solver};
 use lopin_tests::{rel_diff, solve, velocity_history};
 
 fn asset(name: &str) -> String {
@@ -13,12 +18,24 @@ fn asset(name: &str) -> String {
     )
 }
 
+/// Every scene file equals its registry twin, and both build the same problem (the large scenes
+/// are compared as expanded descriptions: bodies, interfaces and boundaries).
 #[test]
 fn scene_files_and_registry_give_identical_problems() {
     for name in scene::registry::SCENES {
         let from_file = scene::load(&asset(name)).expect("asset parses");
         let builtin = scene::registry::builtin(name).expect("registered");
         assert_eq!(from_file, builtin, "{name}: file and registry differ");
+        let expanded = granular::expand(&from_file, name).expect("expands");
+        assert_eq!(
+            expanded,
+            granular::expand(&builtin, name).expect("expands"),
+            "{name}"
+        );
+        assert!(!expanded.bodies.is_empty(), "{name}: no bodies");
+        if scene::registry::is_large(name) {
+            continue;
+        }
         let a = scene::build::build(&from_file, name).expect("builds");
         let b = scene::build::build(&builtin, name).expect("builds");
         assert_eq!(a.interfaces, b.interfaces);
@@ -35,7 +52,7 @@ fn scene_files_and_registry_give_identical_problems() {
 #[test]
 fn malformed_scene_files_get_clear_errors() {
     let good = std::fs::read_to_string(asset("two-blocks")).expect("asset");
-    let cases: [(&str, String, &str, &str); 8] = [
+    let cases: [(&str, String, &str, &str); 9] = [
         (
             "missing dt",
             good.replace("dt = 0.25e-6\n", ""),
@@ -87,6 +104,15 @@ fn malformed_scene_files_get_clear_errors() {
             "material[0].poisson",
             "(-1, 0.5)",
         ),
+        (
+            "two overrides for one pair",
+            good.replace(
+                "gap = 0.0\n",
+                "gap = 0.0\n\n[[interface]]\nbodies = [\"B\", \"A\"]\nkind = \"perfect\"\n",
+            ),
+            "interface[1].bodies",
+            "already have an override (interface[0])",
+        ),
     ];
     let dir = std::env::temp_dir().join(format!("lopin-bad-scenes-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("temp dir");
@@ -124,6 +150,9 @@ fn nonconforming_meshes_are_rejected() {
 #[test]
 fn every_registry_scene_runs_without_nan() {
     for name in scene::registry::SCENES {
+        if scene::registry::is_large(name) {
+            continue;
+        }
         let spec = scene::registry::builtin(name).expect("registry");
         let (solver, sol) = solve(&spec, |_| {});
         assert!(sol.converged, "{name}: eta {}", sol.eta);
@@ -377,4 +406,299 @@ fn momentum_change_equals_boundary_impulse() {
         / scale;
     println!("two-blocks: momentum {momentum:?}, boundary impulse {impulse:?}, rel {err:.2e}");
     assert!(err < 1e-6, "momentum balance {err}");
+}
+
+/// The grain layout of a granular scene, as the generator places it.
+fn granular_layout(spec: &scene::SceneSpec) -> Layout {
+    let table = spec.granular.as_ref().expect("a granular scene");
+    granular::layout(table, &spec.name).expect("grains fit")
+}
+
+/// Face-adjacent cell pairs (c, d) with c < d of a layout, split into (grain/matrix, same grain,
+/// matrix/matrix); counted from the layout alone.
+fn cell_faces(l: &Layout) -> (usize, usize, usize) {
+    let (mut contact, mut grain, mut matrix) = (0, 0, 0);
+    for c in 0..l.grain_of.len() {
+        for d in l.neighbours(c).into_iter().filter(|&d| d > c) {
+            match (l.grain_of[c], l.grain_of[d]) {
+                (Some(a), Some(b)) => {
+                    assert_eq!(a, b, "grains {a} and {b} touch at cells {c}, {d}");
+                    grain += 1;
+                }
+                (None, None) => matrix += 1,
+                _ => contact += 1,
+            }
+        }
+    }
+    (contact, grain, matrix)
+}
+
+/// `granular-small` (SCENES.md): 64 substructures of 3 × 3 × 3 hexahedra (12,288 dofs), 6 grains
+/// of 1 to 3 face-connected cells never face-adjacent to each other; one contact interface per
+/// grain/matrix cell face (one grain side, one matrix side, zero gaps, f = 0.3), perfect
+/// interfaces on the 144 − contact other internal faces, a velocity boundary on each of the 16
+/// top cells and a clamp on each of the 16 bottom cells, materials per cell.
+#[test]
+fn granular_small_has_the_layout_interfaces_and_boundaries_of_scenes_md() {
+    let spec = scene::registry::builtin("granular-small").expect("registry");
+    let layout = granular_layout(&spec);
+    let p: Problem = scene::build::build(&spec, "granular-small").expect("builds");
+    assert_eq!(p.subs.len(), 64);
+    assert_eq!(p.dof_count(), 12_288);
+    assert_eq!((4 * 4 * 4) * (3 + 1) * (3 + 1) * (3 + 1) * 3, 12_288);
+
+    // grains: 6, each of 1–3 cells, face-connected, apart from each other
+    assert_eq!(layout.grains.len(), 6);
+    for cells in &layout.grains {
+        assert!((1..=3).contains(&cells.len()), "grain of {}", cells.len());
+        for (i, &c) in cells.iter().enumerate().skip(1) {
+            assert!(
+                cells[..i].iter().any(|d| layout.neighbours(c).contains(d)),
+                "grain not face-connected: {cells:?}"
+            );
+        }
+    }
+    let (contact_faces, grain_faces, matrix_faces) = cell_faces(&layout);
+    assert_eq!(contact_faces + grain_faces + matrix_faces, 144);
+    assert_eq!(3 * 4 * 4 * 3, 144);
+
+    // materials and names per cell
+    let grain_material = p
+        .materials
+        .iter()
+        .position(|m| m.0 == "grain")
+        .expect("grain material");
+    for (c, sub) in p.subs.iter().enumerate() {
+        assert_eq!(sub.name, layout.name(c));
+        let is_grain = layout.grain_of[c].is_some();
+        assert_eq!(sub.material_id == grain_material, is_grain, "{}", sub.name);
+        let m = if is_grain { 70e9 } else { 30e9 };
+        assert_eq!(sub.material.young, m, "{}", sub.name);
+    }
+
+    // interfaces
+    let contacts: Vec<_> = p.interfaces.iter().filter(|i| i.is_contact()).collect();
+    let perfect = p
+        .interfaces
+        .iter()
+        .filter(|i| matches!(i.law, Law::Perfect))
+        .count();
+    let boundaries: Vec<_> = p.interfaces.iter().filter(|i| i.is_boundary()).collect();
+    assert_eq!(contacts.len(), contact_faces);
+    assert_eq!(perfect, 144 - contact_faces);
+    assert_eq!(boundaries.len(), 32);
+    assert_eq!(p.interfaces.len(), 144 + 32);
+    for it in &contacts {
+        let grains = it
+            .sides
+            .iter()
+            .filter(|s| layout.grain_of[s.sub].is_some())
+            .count();
+        assert_eq!(grains, 1, "{}: one grain side and one matrix side", it.name);
+        let Law::Contact(c) = &it.law else {
+            unreachable!("filtered on contact")
+        };
+        assert_eq!(c.friction, 0.3);
+        assert_eq!(c.gap.len(), 16, "{}: 4 × 4 node pairs", it.name);
+        assert!(c.gap.iter().all(|&g| g == 0.0), "{}: zero gaps", it.name);
+    }
+    for k in [0, 3] {
+        let face = if k == 3 { "z+" } else { "z-" };
+        for c in (0..16).map(|c| c + 16 * k) {
+            let name = format!("{}:{face}", layout.name(c));
+            let it = boundaries
+                .iter()
+                .find(|i| i.name == name)
+                .unwrap_or_else(|| panic!("no boundary {name}"));
+            assert_eq!(it.sides[0].sub, c);
+            // 4 × 4 nodes: velocity on z only (top), 3 components (bottom)
+            assert_eq!(it.len, if k == 3 { 16 } else { 48 }, "{name}");
+        }
+    }
+    println!(
+        "granular-small: {} substructures, {} dofs, grains of {:?} cells; interfaces: {} contact, \
+         {} perfect, {} boundary, {} in all",
+        p.subs.len(),
+        p.dof_count(),
+        layout.grains.iter().map(Vec::len).collect::<Vec<_>>(),
+        contacts.len(),
+        perfect,
+        boundaries.len(),
+        p.interfaces.len()
+    );
+}
+
+/// `granular-paper` at the description level (building it takes about 1 GB): 648 cells, 50
+/// grains of 2 cells (100 grain cells), 648 · 8³ · 3 = 995,328 dofs, one contact override per
+/// grain/matrix cell face, 81 top and 81 bottom boundaries.
+#[test]
+fn granular_paper_has_the_sizes_of_scenes_md() {
+    let spec = scene::registry::builtin("granular-paper").expect("registry");
+    assert!(scene::registry::is_large("granular-paper"));
+    let layout = granular_layout(&spec);
+    let expanded = granular::expand(&spec, "granular-paper").expect("expands");
+    assert_eq!(expanded.bodies.len(), 648);
+    assert_eq!(layout.grains.len(), 50);
+    assert!(layout.grains.iter().all(|g| g.len() == 2));
+    let grain_bodies = expanded
+        .bodies
+        .iter()
+        .filter(|b| b.material == "grain")
+        .count();
+    assert_eq!(grain_bodies, 100);
+    let dofs: usize = expanded
+        .bodies
+        .iter()
+        .map(|b| 3 * b.divisions.iter().map(|d| d + 1).product::<usize>())
+        .sum();
+    assert_eq!(dofs, 995_328);
+    assert_eq!(648 * 8 * 8 * 8 * 3, 995_328);
+    let (contact_faces, grain_faces, matrix_faces) = cell_faces(&layout);
+    let internal = 8 * 9 * 8 + 9 * 8 * 8 + 9 * 9 * 7;
+    assert_eq!(contact_faces + grain_faces + matrix_faces, internal);
+    assert_eq!(
+        grain_faces, 50,
+        "one perfect face inside each grain of 2 cells"
+    );
+    assert_eq!(expanded.interfaces.len(), contact_faces);
+    assert_eq!(expanded.boundaries.len(), 2 * 81);
+    println!(
+        "granular-paper: 648 substructures, {dofs} dofs; interfaces: {contact_faces} contact, {} \
+         perfect, {} boundary, {} in all",
+        internal - contact_faces,
+        expanded.boundaries.len(),
+        internal + expanded.boundaries.len()
+    );
+}
+
+/// Malformed `[granular]` tables in files give errors naming the file, the field and the reason.
+#[test]
+fn malformed_granular_files_get_clear_errors() {
+    let good = std::fs::read_to_string(asset("granular-small")).expect("asset");
+    let cases: [(&str, String, &str, &str); 6] = [
+        (
+            "grains too many to place",
+            good.replace("grains = 6", "grains = 30"),
+            "granular.grains",
+            "found no room for grain",
+        ),
+        (
+            "unknown material",
+            good.replace("grain = \"grain\"", "grain = \"basalt\""),
+            "granular.grain",
+            "no material named `basalt`",
+        ),
+        (
+            "grid with a zero",
+            good.replace("grid = [4, 4, 4]", "grid = [4, 4, 0]"),
+            "granular.grid",
+            "z: must be at least 1 cell",
+        ),
+        (
+            "unknown key",
+            good.replace("grains = 6", "grains = 6\ngrain_size = 2"),
+            "grain_size",
+            "unknown field",
+        ),
+        (
+            "bodies listed too",
+            good.replace(
+                "\n[granular]\n",
+                "\n[[body]]\nname = \"extra\"\nmaterial = \"matrix\"\nmin = [0.0, 0.0, 0.1]\n\
+                 max = [0.1, 0.1, 0.2]\ndivisions = [1, 1, 1]\n\n[granular]\n",
+            ),
+            "body",
+            "generates its bodies",
+        ),
+        (
+            "negative friction",
+            good.replace("friction = 0.3", "friction = -0.3"),
+            "granular.friction",
+            "non-negative",
+        ),
+    ];
+    let dir = std::env::temp_dir().join(format!("lopin-bad-granular-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    for (what, text, field, reason) in cases {
+        assert_ne!(text, good, "{what}: the edit did not apply");
+        let path = dir.join("bad.toml");
+        std::fs::write(&path, &text).expect("write");
+        let err = scene::load(path.to_str().expect("utf8")).expect_err(what);
+        let msg = err.to_string();
+        assert!(matches!(err, LopinError::Scene { .. }), "{what}: {msg}");
+        assert!(msg.contains("bad.toml"), "{what}: no file name in `{msg}`");
+        assert!(msg.contains(field), "{what}: no field `{field}` in `{msg}`");
+        assert!(
+            msg.contains(reason),
+            "{what}: no reason `{reason}` in `{msg}`"
+        );
+    }
+    // `--split` has no meaning for a granular scene: the build says so
+    let mut spec = scene::registry::builtin("granular-small").expect("registry");
+    spec.split(2);
+    let msg = scene::build::build(&spec, "scene granular-small")
+        .expect_err("split")
+        .to_string();
+    assert!(
+        msg.contains("--split 2") && msg.contains("granular.grid"),
+        "{msg}"
+    );
+}
+
+/// `granular-small` at the default settings (METHOD §10) converges to η < 1e-3 without NaN, and
+/// the pressed cube loads its grain/matrix contacts.
+#[test]
+fn granular_small_converges_at_default_settings() {
+    let spec = scene::registry::builtin("granular-small").expect("registry");
+    let clock = Instant::now();
+    let problem = scene::build::build(&spec, "granular-small").expect("builds");
+    let build_s = clock.elapsed().as_secs_f64();
+    let settings = Settings::for_problem(&problem, &spec.solver);
+    let mut solver = Solver::new(problem, settings).expect("factorizes");
+    let sol = solver.solve(None).expect("solve");
+    let solve_s = clock.elapsed().as_secs_f64() - build_s;
+    assert!(sol.converged && sol.eta < 1e-3, "eta {}", sol.eta);
+    assert!(sol.eta_history.iter().all(|e| e.is_finite()));
+    let v = velocity_history(&solver, &sol);
+    assert!(v.iter().flatten().flatten().all(|x| x.is_finite()));
+    let contacts = post::contact(&solver, &sol);
+    let loaded = contacts
+        .iter()
+        .filter(|c| c.peak_normal_force() > 0.0)
+        .count();
+    assert!(loaded > 0, "no grain/matrix contact carries a normal force");
+    println!(
+        "granular-small: {} iterations, eta {:.2e}, build {build_s:.2} s, setup + solve \
+         {solve_s:.2} s; {loaded} of {} contacts loaded, max slip {:.2e} m",
+        sol.iterations,
+        sol.eta,
+        contacts.len(),
+        contacts.iter().map(|c| c.max_slip()).fold(0.0, f64::max)
+    );
+}
+
+/// Builds `granular-paper` (648 substructures, about 1 million dofs) and reports the time; left
+/// out of the default run for its memory (about 1 GB). Run with
+/// `cargo test --release -p lopin-tests --test scenes -- --ignored granular_paper_builds`.
+#[test]
+#[ignore = "builds about 1 GB of stiffness matrices"]
+fn granular_paper_builds_in_seconds() {
+    let spec = scene::registry::builtin("granular-paper").expect("registry");
+    let clock = Instant::now();
+    let p = scene::build::build(&spec, "granular-paper").expect("builds");
+    let s = clock.elapsed().as_secs_f64();
+    let contact = p.contact_count();
+    let boundary = p.interfaces.iter().filter(|i| i.is_boundary()).count();
+    println!(
+        "granular-paper: built in {s:.2} s: {} substructures, {} dofs; interfaces: {contact} \
+         contact, {} perfect, {boundary} boundary, {} in all",
+        p.subs.len(),
+        p.dof_count(),
+        p.interfaces.len() - contact - boundary,
+        p.interfaces.len()
+    );
+    assert_eq!(p.subs.len(), 648);
+    assert_eq!(p.dof_count(), 995_328);
+    assert_eq!(boundary, 162);
+    assert!(s < 20.0, "build took {s:.1} s");
 }

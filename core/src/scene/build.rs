@@ -1,13 +1,18 @@
 //! Turns a scene description into a [`Problem`]: validates every field (errors name the source,
-//! the field and the reason), meshes the bodies, cuts them into substructures, detects the
-//! interfaces and places the boundary conditions.
+//! the field and the reason), expands a `[granular]` table ([`granular::expand`]), meshes the
+//! bodies, cuts them into substructures, detects the interfaces and places the boundary
+//! conditions.
+
+use std::collections::HashMap;
 
 use crate::detect::{assemble_traces, boundary_interface, detect_interfaces, PairRule};
 use crate::error::{LopinError, Result};
 use crate::interface::{BoundaryDof, DofLaw};
 use crate::material::Material;
-use crate::mesh::Mesh;
+use crate::mesh::{Mesh, Vec3};
+use crate::par;
 use crate::problem::Problem;
+use crate::scene::granular;
 use crate::scene::spec::{BoundarySpec, ComponentSpec, InterfaceKind, SceneSpec};
 use crate::substructure::Substructure;
 use crate::time_function::TimeFunction;
@@ -25,8 +30,17 @@ pub fn face_of(name: &str) -> Option<(usize, f64)> {
     }
 }
 
-/// Checks every field of a scene; `source` names the file or built-in scene in errors.
+/// Checks every field of a scene; `source` names the file or built-in scene in errors. A
+/// granular scene is checked as its `[granular]` table, then as the scene it expands to.
 pub fn validate(spec: &SceneSpec, source: &str) -> Result<()> {
+    if spec.granular.is_some() {
+        return validate_expanded(&granular::expand(spec, source)?, source);
+    }
+    validate_expanded(spec, source)
+}
+
+/// Checks a scene whose bodies are listed.
+fn validate_expanded(spec: &SceneSpec, source: &str) -> Result<()> {
     let err = |field: String, reason: String| Err(LopinError::scene(source, field, reason));
     let positive = |x: f64| x.is_finite() && x > 0.0;
     if !positive(spec.time.dt) {
@@ -101,10 +115,14 @@ pub fn validate(spec: &SceneSpec, source: &str) -> Result<()> {
         }
     }
     if spec.bodies.is_empty() {
-        return err("body".into(), "at least one [[body]] is needed".into());
+        return err(
+            "body".into(),
+            "at least one [[body]] (or a [granular] table) is needed".into(),
+        );
     }
+    let mut body_index: HashMap<&str, usize> = HashMap::with_capacity(spec.bodies.len());
     for (i, b) in spec.bodies.iter().enumerate() {
-        if spec.bodies[..i].iter().any(|o| o.name == b.name) {
+        if body_index.insert(&b.name, i).is_some() {
             return err(
                 format!("body[{i}].name"),
                 format!("duplicate body name `{}`", b.name),
@@ -147,9 +165,10 @@ pub fn validate(spec: &SceneSpec, source: &str) -> Result<()> {
             return err(format!("body[{i}].velocity"), "must be finite".into());
         }
     }
+    let mut pairs: HashMap<(usize, usize), usize> = HashMap::with_capacity(spec.interfaces.len());
     for (i, it) in spec.interfaces.iter().enumerate() {
         for (j, name) in it.bodies.iter().enumerate() {
-            if !spec.bodies.iter().any(|b| &b.name == name) {
+            if !body_index.contains_key(name.as_str()) {
                 return err(
                     format!("interface[{i}].bodies[{j}]"),
                     format!("no body named `{name}`"),
@@ -160,6 +179,15 @@ pub fn validate(spec: &SceneSpec, source: &str) -> Result<()> {
             return err(
                 format!("interface[{i}].bodies"),
                 "the two bodies must differ".into(),
+            );
+        }
+        if let Some(first) = pairs.insert(pair_key(&body_index, &it.bodies), i) {
+            return err(
+                format!("interface[{i}].bodies"),
+                format!(
+                    "bodies `{}` and `{}` already have an override (interface[{first}])",
+                    it.bodies[0], it.bodies[1]
+                ),
             );
         }
         let contact = it.kind == InterfaceKind::Contact;
@@ -185,7 +213,7 @@ pub fn validate(spec: &SceneSpec, source: &str) -> Result<()> {
         }
     }
     for (i, bc) in spec.boundaries.iter().enumerate() {
-        if !spec.bodies.iter().any(|b| b.name == bc.body) {
+        if !body_index.contains_key(bc.body.as_str()) {
             return err(
                 format!("boundary[{i}].body"),
                 format!("no body named `{}`", bc.body),
@@ -260,8 +288,24 @@ fn component_law(c: &ComponentSpec) -> std::result::Result<DofLaw, String> {
     }
 }
 
-/// Builds the discrete problem of a validated scene.
+/// The unordered pair of two (existing) body names as ordered body indices.
+fn pair_key(body_index: &HashMap<&str, usize>, bodies: &[String; 2]) -> (usize, usize) {
+    let a = body_index
+        .get(bodies[0].as_str())
+        .copied()
+        .unwrap_or_default();
+    let b = body_index
+        .get(bodies[1].as_str())
+        .copied()
+        .unwrap_or_default();
+    (a.min(b), a.max(b))
+}
+
+/// Builds the discrete problem of a scene (validated first; a `[granular]` table is expanded).
 pub fn build(spec: &SceneSpec, source: &str) -> Result<Problem> {
+    if spec.granular.is_some() {
+        return build(&granular::expand(spec, source)?, source);
+    }
     validate(spec, source)?;
     let materials: Vec<(String, Material)> = spec
         .materials
@@ -277,13 +321,10 @@ pub fn build(spec: &SceneSpec, source: &str) -> Result<Problem> {
             )
         })
         .collect();
-    let mut subs = Vec::new();
+    // the substructures to assemble: (body, name, lower corner, upper corner, divisions)
+    let mut pieces: Vec<(usize, String, Vec3, Vec3, [usize; 3])> = Vec::new();
     let mut body_subs: Vec<Vec<usize>> = Vec::new();
-    for b in &spec.bodies {
-        let material_id = materials
-            .iter()
-            .position(|m| m.0 == b.material)
-            .unwrap_or_default();
+    for (body, b) in spec.bodies.iter().enumerate() {
         let [sx, sy, sz] = b.split;
         let div = [
             b.divisions[0] / sx,
@@ -303,43 +344,75 @@ pub fn build(spec: &SceneSpec, source: &str) -> Result<Problem> {
                     } else {
                         format!("{}[{ix},{iy},{iz}]", b.name)
                     };
-                    ids.push(subs.len());
-                    subs.push(Substructure::assemble(
-                        name,
-                        b.name.clone(),
-                        material_id,
-                        Mesh::hex_box(lo, hi, div),
-                        materials[material_id].1,
-                        b.velocity,
-                    ));
+                    ids.push(pieces.len());
+                    pieces.push((body, name, lo, hi, div));
                 }
             }
         }
         body_subs.push(ids);
     }
+    let material_of: Vec<usize> = spec
+        .bodies
+        .iter()
+        .map(|b| {
+            materials
+                .iter()
+                .position(|m| m.0 == b.material)
+                .unwrap_or_default()
+        })
+        .collect();
+    // assembly dominates the build of scenes with many substructures: in parallel
+    let mut subs: Vec<Substructure> = par::map_range(pieces.len(), |i| {
+        let (body, name, lo, hi, div) = &pieces[i];
+        let b = &spec.bodies[*body];
+        let material_id = material_of[*body];
+        Substructure::assemble(
+            name.clone(),
+            b.name.clone(),
+            material_id,
+            Mesh::hex_box(*lo, *hi, *div),
+            materials[material_id].1,
+            b.velocity,
+        )
+    });
+    // the override of each pair of bodies, looked up by pair (scenes have hundreds of bodies)
+    let body_index: HashMap<&str, usize> = spec
+        .bodies
+        .iter()
+        .enumerate()
+        .map(|(i, b)| (b.name.as_str(), i))
+        .collect();
+    let overrides: HashMap<(usize, usize), PairRule> = spec
+        .interfaces
+        .iter()
+        .map(|it| {
+            let rule = match it.kind {
+                InterfaceKind::Perfect => PairRule::Perfect,
+                InterfaceKind::Free => PairRule::Free,
+                InterfaceKind::Contact => PairRule::Contact {
+                    friction: it.friction.unwrap_or(0.0),
+                    gap: it.gap,
+                    search: it.search.unwrap_or(0.0),
+                },
+            };
+            (pair_key(&body_index, &it.bodies), rule)
+        })
+        .collect();
     let rule = |a: &str, b: &str| -> PairRule {
-        let Some(it) = spec.interfaces.iter().find(|i| {
-            (i.bodies[0] == a && i.bodies[1] == b) || (i.bodies[0] == b && i.bodies[1] == a)
-        }) else {
+        let (Some(&i), Some(&j)) = (body_index.get(a), body_index.get(b)) else {
             return PairRule::Perfect;
         };
-        match it.kind {
-            InterfaceKind::Perfect => PairRule::Perfect,
-            InterfaceKind::Free => PairRule::Free,
-            InterfaceKind::Contact => PairRule::Contact {
-                friction: it.friction.unwrap_or(0.0),
-                gap: it.gap,
-                search: it.search.unwrap_or(0.0),
-            },
-        }
+        overrides
+            .get(&(i.min(j), i.max(j)))
+            .copied()
+            .unwrap_or(PairRule::Perfect)
     };
     let mut interfaces = detect_interfaces(&subs, &rule)?;
     for (i, bc) in spec.boundaries.iter().enumerate() {
         let (axis, sign) = face_of(&bc.face).unwrap_or((0, 1.0));
-        let body = spec
-            .bodies
-            .iter()
-            .position(|b| b.name == bc.body)
+        let body = body_index
+            .get(bc.body.as_str())
+            .copied()
             .unwrap_or_default();
         let b = &spec.bodies[body];
         let value = if sign > 0.0 { b.max[axis] } else { b.min[axis] };

@@ -1,7 +1,9 @@
 //! Scenes: the description schema ([`spec`]), the built-in registry ([`registry`]), TOML
-//! reading, and the builder that turns a description into a [`crate::Problem`] ([`build`]).
+//! reading, the generator of granular materials ([`granular`]) and the builder that turns a
+//! description into a [`crate::Problem`] ([`build`]).
 
 pub mod build;
+pub mod granular;
 pub mod registry;
 pub mod spec;
 

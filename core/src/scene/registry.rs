@@ -1,6 +1,7 @@
 //! The built-in scenes of SCENES.md, in one registry shared by the command line, the explorer,
 //! the web build, the tests and the benchmarks. Each has a TOML twin in `assets/scenes/`.
 
+use crate::scene::granular::GranularSpec;
 use crate::scene::spec::{
     BodySpec, BoundarySpec, ComponentSpec, InterfaceKind, InterfaceSpec, MaterialSpec, SceneSpec,
     SolverSpec,
@@ -8,7 +9,23 @@ use crate::scene::spec::{
 use crate::time_function::TimeGrid;
 
 /// Names of the built-in scenes, in display order.
-pub const SCENES: [&str; 4] = ["bar", "bar-bimaterial", "two-blocks", "gap-impact"];
+pub const SCENES: [&str; 6] = [
+    "bar",
+    "bar-bimaterial",
+    "two-blocks",
+    "gap-impact",
+    "granular-small",
+    "granular-paper",
+];
+
+/// Built-in scenes too large for the test suite's solves and the explorer's scene picker
+/// (`granular-paper`: 648 substructures, about 1 million dofs, about 1 GB to build).
+pub const LARGE: [&str; 1] = ["granular-paper"];
+
+/// Whether a built-in scene is too large to solve in the tests or to offer in the explorer.
+pub fn is_large(name: &str) -> bool {
+    LARGE.contains(&name)
+}
 
 /// The built-in scene of that name.
 pub fn builtin(name: &str) -> Option<SceneSpec> {
@@ -17,6 +34,8 @@ pub fn builtin(name: &str) -> Option<SceneSpec> {
         "bar-bimaterial" => Some(bar_bimaterial()),
         "two-blocks" => Some(two_blocks()),
         "gap-impact" => Some(gap_impact()),
+        "granular-small" => Some(granular_small()),
+        "granular-paper" => Some(granular_paper()),
         _ => None,
     }
 }
@@ -85,6 +104,7 @@ fn bar() -> SceneSpec {
         },
         solver: SolverSpec::default(),
         materials: vec![material("steel", 210e9, 0.0, 7800.0)],
+        granular: None,
         bodies: vec![b],
         interfaces: vec![],
         boundaries: vec![pushed_x("bar")],
@@ -118,6 +138,7 @@ fn bar_bimaterial() -> SceneSpec {
             material("steel", 210e9, 0.0, 7800.0),
             material("aluminium", 70e9, 0.0, 2700.0),
         ],
+        granular: None,
         bodies: vec![steel, al],
         interfaces: vec![],
         boundaries: vec![pushed_x("steel")],
@@ -140,6 +161,7 @@ fn two_blocks() -> SceneSpec {
             material("steel", 210e9, 0.30, 7800.0),
             material("aluminium", 70e9, 0.33, 2700.0),
         ],
+        granular: None,
         bodies: vec![
             body(
                 "A",
@@ -196,6 +218,7 @@ fn gap_impact() -> SceneSpec {
             material("steel", 210e9, 0.30, 7800.0),
             material("aluminium", 70e9, 0.33, 2700.0),
         ],
+        granular: None,
         bodies: vec![
             a,
             body("B", "aluminium", [0.0; 3], [0.02, 0.02, 0.02], [5, 5, 5]),
@@ -209,4 +232,59 @@ fn gap_impact() -> SceneSpec {
         }],
         boundaries: vec![clamped("B", "z-")],
     }
+}
+
+/// The materials of the `granular` scenes: a concrete-like matrix and stiffer grains.
+fn granular_materials() -> Vec<MaterialSpec> {
+    vec![
+        material("matrix", 30e9, 0.2, 2400.0),
+        material("grain", 70e9, 0.25, 2700.0),
+    ]
+}
+
+/// A `granular` scene (SCENES.md): the bodies, interfaces and boundaries come from the table.
+fn granular(name: &str, description: &str, time: TimeGrid, table: GranularSpec) -> SceneSpec {
+    SceneSpec {
+        name: name.into(),
+        description: description.into(),
+        refine_axes: "xyz".into(),
+        split_axes: "xy".into(),
+        time,
+        solver: SolverSpec::default(),
+        materials: granular_materials(),
+        granular: Some(table),
+        bodies: vec![],
+        interfaces: vec![],
+        boundaries: vec![],
+    }
+}
+
+/// `granular-small`: a 0.1 m cube of 4 × 4 × 4 cells (3 × 3 × 3 hexahedra each) with 6 grains
+/// of 1 to 3 cells, pressed at 10 m/s on top.
+fn granular_small() -> SceneSpec {
+    granular(
+        "granular-small",
+        "cube of 4 x 4 x 4 cells, 6 stiff grains in contact (f = 0.3) with the matrix, pressed on top",
+        TimeGrid {
+            dt: 1e-6,
+            steps: 40,
+        },
+        GranularSpec::new(0.1, [4, 4, 4], 3, 6, "matrix", "grain"),
+    )
+}
+
+/// `granular-paper`: the seed paper's size, a 0.5 m cube of 9 × 9 × 8 cells (648 substructures of
+/// 7 × 7 × 7 hexahedra, about 1 million dofs) with 50 grains of 2 cells.
+fn granular_paper() -> SceneSpec {
+    let mut table = GranularSpec::new(0.5, [9, 9, 8], 7, 50, "matrix", "grain");
+    table.grain_cells = [2, 2];
+    granular(
+        "granular-paper",
+        "the seed paper's size: 648 cells, 50 grains of 2 cells, about 1 million dofs",
+        TimeGrid {
+            dt: 2.5e-6,
+            steps: 100,
+        },
+        table,
+    )
 }

@@ -1,9 +1,11 @@
 //! The scene description: the serde schema shared by the registry and TOML scene files
 //! (materials, boxes with mesh divisions and substructure splits, interface overrides, boundary
-//! conditions, time grid, solver settings), plus `--refine` and `--split`.
+//! conditions, time grid, solver settings, or a `[granular]` generator table), plus `--refine`
+//! and `--split`.
 
 use serde::{Deserialize, Serialize};
 
+use crate::scene::granular::GranularSpec;
 use crate::time_function::{Ramp, TimeGrid};
 
 /// A whole scene.
@@ -29,8 +31,12 @@ pub struct SceneSpec {
     /// Materials.
     #[serde(rename = "material")]
     pub materials: Vec<MaterialSpec>,
+    /// A generated granular material (`[granular]`): when present, the bodies, interfaces and
+    /// boundaries are generated from it and must not be listed ([`crate::scene::granular`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub granular: Option<GranularSpec>,
     /// Bodies: boxes meshed with hexahedra and cut into substructures.
-    #[serde(rename = "body")]
+    #[serde(default, rename = "body", skip_serializing_if = "Vec::is_empty")]
     pub bodies: Vec<BodySpec>,
     /// How pairs of bodies are joined (default: perfect where they touch).
     #[serde(default, rename = "interface", skip_serializing_if = "Vec::is_empty")]
@@ -200,8 +206,12 @@ impl ComponentSpec {
 }
 
 impl SceneSpec {
-    /// Multiplies the mesh divisions along `refine_axes` by k.
+    /// Multiplies the mesh divisions along `refine_axes` by k (of a granular scene: the
+    /// hexahedra per cell edge, along all axes).
     pub fn refine(&mut self, k: usize) {
+        if let Some(g) = &mut self.granular {
+            g.cell_elements *= k;
+        }
         let axes = axes_of(&self.refine_axes);
         for b in &mut self.bodies {
             for &a in &axes {
@@ -210,8 +220,13 @@ impl SceneSpec {
         }
     }
 
-    /// Multiplies the number of substructures along `split_axes` by n.
+    /// Multiplies the number of substructures along `split_axes` by n. A granular scene has one
+    /// substructure per cell: there the request is recorded and validation rejects n ≠ 1 with a
+    /// message saying so.
     pub fn split(&mut self, n: usize) {
+        if let Some(g) = &mut self.granular {
+            g.requested_split *= n;
+        }
         let axes = axes_of(&self.split_axes);
         for b in &mut self.bodies {
             for &a in &axes {
@@ -220,8 +235,12 @@ impl SceneSpec {
         }
     }
 
-    /// Sets the friction coefficient of every contact override.
+    /// Sets the friction coefficient of every contact override (and of the grain/matrix
+    /// contacts of a granular scene).
     pub fn set_friction(&mut self, f: f64) {
+        if let Some(g) = &mut self.granular {
+            g.friction = f;
+        }
         for i in &mut self.interfaces {
             if i.kind == InterfaceKind::Contact {
                 i.friction = Some(f);
