@@ -17,7 +17,12 @@ pub fn top_bar(app: &mut ExplorerApp, ui: &mut egui::Ui) {
             egui::ComboBox::from_label("scene")
                 .selected_text(app.info.name.clone())
                 .show_ui(ui, |ui| {
-                    for name in lopin_core::scene::registry::SCENES {
+                    // scenes of a million dofs are for the command line (`lopin run`), not a
+                    // live view
+                    let scenes = lopin_core::scene::registry::SCENES
+                        .into_iter()
+                        .filter(|n| !lopin_core::scene::registry::is_large(n));
+                    for name in scenes {
                         if ui.selectable_label(app.info.name == name, name).clicked() {
                             chosen = Some(name.to_string());
                         }

@@ -168,11 +168,16 @@ clamped = true
     let spec = scene::from_toml(text, "cube-4").expect("scene");
     let (problem, two) = settings(&spec, 1e-8, true);
     let (_, one) = settings(&spec, 1e-8, false);
+    let reference = Monolithic::new(problem.clone()).expect("reference");
+    let mono = reference.solve().expect("reference solve");
     let mut single = Solver::new(problem.clone(), one).expect("single");
     let single_sol = single.solve(None).expect("single solve");
     let mut solver = Solver::new(problem, two).expect("two-scale");
     let sol = solver.solve(None).expect("two-scale solve");
     let factors = solver.classes().count();
+    // shared factorizations give the reference's solution
+    let c = compare(&single, &single_sol, &reference, &mono);
+    assert!(c.rel_diff_velocity <= 1e-6, "{c:?}");
     let homogenized = solver.macro_problem().expect("macro").classes.count();
     let d = rel_diff(
         &velocity_history(&solver, &sol),
@@ -180,11 +185,39 @@ clamped = true
     );
     println!(
         "cube 4x4x4: {factors} factorizations, {homogenized} homogenized operators for 64 cells; \
-         two-scale {} it, single-scale {} it, difference {d:.2e}",
-        sol.iterations, single_sol.iterations
+         two-scale {} it, single-scale {} it, difference {d:.2e}; single-scale vs reference \
+         {:.2e}",
+        sol.iterations, single_sol.iterations, c.rel_diff_velocity
     );
     assert_eq!(factors, 18);
     assert_eq!(homogenized, 27);
     assert!(sol.converged && single_sol.converged);
     assert!(d <= 1e-6, "{d:.3e}");
+}
+
+/// The memory estimate printed before large runs counts exactly the interface fields a solve
+/// holds (s, the unrelaxed linear-stage output, ŝ: METHOD §11), and the factorization count is
+/// the solver's.
+#[test]
+fn the_estimate_counts_the_interface_fields_and_factorizations() {
+    use lopin_core::estimate::Estimate;
+    let spec = scene::load("granular-small").expect("scene");
+    let (problem, mut s) = settings(&spec, 1e-3, false);
+    s.window = Some(1);
+    let e = Estimate::of(&problem, &s);
+    let state = InterfaceState::cold(&problem);
+    let sides: usize = problem
+        .interfaces
+        .iter()
+        .map(|i| 2 * i.len * i.sides.len() * (problem.time.steps + 1))
+        .sum();
+    assert_eq!(e.interface_bytes, 8 * (2 * state.size() + sides));
+    assert_eq!(e.cache_bytes, 0, "windowed runs keep no skip cache");
+    let solver = Solver::new(problem, s).expect("setup");
+    let full = Estimate::of_solver(&solver);
+    println!("granular-small: {}", full.lines().join("; "));
+    assert_eq!(full.factorizations, Some(solver.factors().len()));
+    assert!(solver.factors().len() < solver.problem().subs.len() / 2);
+    assert!(full.iteration_s.is_some_and(|t| t > 0.0 && t.is_finite()));
+    assert!(!full.is_large());
 }

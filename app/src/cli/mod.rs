@@ -12,6 +12,7 @@ mod plot;
 mod reference;
 mod report;
 mod run;
+mod scaling;
 mod scenes;
 mod setup;
 mod stress;
@@ -52,6 +53,8 @@ enum Command {
     Sweep(sweep::SweepArgs),
     /// Time setup, iterations and triangular solves on `two-blocks` (refine 1 and 2).
     Bench(bench::BenchArgs),
+    /// Iterations against the number of substructures, with and without the macro problem.
+    Scaling(scaling::ScalingArgs),
     /// List the built-in scenes.
     Scenes,
     /// Print a built-in scene as a TOML scene file.
@@ -74,6 +77,7 @@ pub fn dispatch(cli: Cli) -> anyhow::Result<std::process::ExitCode> {
         Some(Command::Sweep(args)) => sweep::sweep(&args),
         Some(Command::Export(args)) => export::export_cmd(&args),
         Some(Command::Bench(args)) => bench::bench(&args),
+        Some(Command::Scaling(args)) => scaling::scaling(&args),
         Some(Command::Scenes) => scenes::list(),
         Some(Command::ExportScene { name }) => scenes::export(&name),
         None => view::view(&view::ViewArgs::default()),

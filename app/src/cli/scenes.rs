@@ -8,7 +8,12 @@ pub fn list() -> anyhow::Result<ExitCode> {
     for name in registry::SCENES {
         let spec =
             registry::builtin(name).ok_or_else(|| anyhow::anyhow!("registry lost {name}"))?;
-        println!("{name:<16} {}", spec.description);
+        let large = if registry::is_large(name) {
+            " [large: command line, see `lopin estimate`]"
+        } else {
+            ""
+        };
+        println!("{name:<16} {}{large}", spec.description);
     }
     Ok(ExitCode::SUCCESS)
 }

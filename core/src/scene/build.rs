@@ -10,11 +10,10 @@ use crate::error::{LopinError, Result};
 use crate::interface::{BoundaryDof, DofLaw};
 use crate::material::Material;
 use crate::mesh::{Mesh, Vec3};
-use crate::par;
 use crate::problem::Problem;
 use crate::scene::granular;
 use crate::scene::spec::{BoundarySpec, ComponentSpec, InterfaceKind, SceneSpec};
-use crate::substructure::Substructure;
+use crate::substructure::{StiffnessCache, Substructure};
 use crate::time_function::TimeFunction;
 
 /// Faces of a box by name: (axis, sign).
@@ -361,20 +360,25 @@ pub fn build(spec: &SceneSpec, source: &str) -> Result<Problem> {
                 .unwrap_or_default()
         })
         .collect();
-    // assembly dominates the build of scenes with many substructures: in parallel
-    let mut subs: Vec<Substructure> = par::map_range(pieces.len(), |i| {
-        let (body, name, lo, hi, div) = &pieces[i];
-        let b = &spec.bodies[*body];
-        let material_id = material_of[*body];
-        Substructure::assemble(
-            name.clone(),
-            b.name.clone(),
-            material_id,
-            Mesh::hex_box(*lo, *hi, *div),
-            materials[material_id].1,
-            b.velocity,
-        )
-    });
+    // cells equal up to a translation share one assembled stiffness (a granular cube of 648
+    // cells assembles a handful)
+    let mut cache = StiffnessCache::default();
+    let mut subs: Vec<Substructure> = pieces
+        .iter()
+        .map(|(body, name, lo, hi, div)| {
+            let b = &spec.bodies[*body];
+            let material_id = material_of[*body];
+            Substructure::assemble_cached(
+                name.clone(),
+                b.name.clone(),
+                material_id,
+                Mesh::hex_box(*lo, *hi, *div),
+                materials[material_id].1,
+                b.velocity,
+                &mut cache,
+            )
+        })
+        .collect();
     // the override of each pair of bodies, looked up by pair (scenes have hundreds of bodies)
     let body_index: HashMap<&str, usize> = spec
         .bodies
