@@ -1,5 +1,6 @@
-//! The LATIN solver: the one entry point of the engine. [`Solver::new`] factorizes every
-//! substructure operator S once (METHOD §4, §11); [`Solver::solve_with`] iterates (one iteration
+//! The LATIN solver: the one entry point of the engine. [`Solver::new`] factorizes the
+//! substructure operator S once per class of identical substructures (METHOD §4, §11) and, for
+//! the two-scale linear stage, builds the macro problem once (METHOD §9); [`Solver::solve_with`] iterates (one iteration
 //! is [`Solver::step`], see [`run`]) until η < tol, window after window (METHOD §7; one window =
 //! the non-incremental method), from a cold start or from a given interface state (warm start,
 //! METHOD §8). [`Solver::begin`] / [`Solver::step`] / [`Solver::finish`] let a caller without
@@ -198,7 +199,6 @@ impl Solver {
         let classes = factor_classes(&problem.subs);
         let factors = factorize(&problem, &classes, settings.k)?;
         let works = make_works(&problem, &classes, &factors);
-        let mut counters = Counters::default();
         let cache = vec![None; problem.subs.len()];
         let mut solver = Self {
             problem,
@@ -213,8 +213,7 @@ impl Solver {
         if settings.two_scale {
             solver.build_macro()?;
         }
-        counters.setup_s = start.elapsed().as_secs_f64();
-        solver.counters = counters;
+        solver.counters.setup_s = start.elapsed().as_secs_f64();
         Ok(solver)
     }
 

@@ -6,6 +6,8 @@
 //!
 //! 1. local stage (E+, METHOD §5) on every interface, in parallel, contact sequential in time;
 //! 2. linear stage (E−, METHOD §4) on every substructure, in parallel, over the time window;
+//!    with [`super::Settings::two_scale`], the two-scale stage of METHOD §9 instead: all
+//!    substructures in lock-step, one macro solve per time step ([`super::two_scale`]);
 //! 3. error indicator η from the unrelaxed linear-stage output and ŝ (METHOD §6);
 //! 4. relaxation s ← μ s_new + (1 − μ) s, with μ = 1 at the first iteration (METHOD §6);
 //!
