@@ -86,6 +86,10 @@ impl ReferenceRun {
             "steps": p.time.steps,
             "dt": p.time.dt,
             "settings": { "contact_tol": c.tol, "max_sweeps": c.max_sweeps },
+            // one factorization of the assembled operator, no macro problem
+            "factorizations": 1,
+            "macro_dofs": null,
+            "peak_memory_bytes": super::report::peak_memory_bytes(),
             "iterations": sol.sweeps,
             "max_sweeps_per_step": sol.max_sweeps,
             "eta": sol.contact_change,
