@@ -48,6 +48,27 @@ fn scene_files_and_registry_give_identical_problems() {
     }
 }
 
+/// Writes each malformed variant of `good` to a file and checks that loading it fails with a
+/// scene error naming the file, the field and the reason.
+fn assert_clear_errors(good: &str, cases: &[(&str, String, &str, &str)], dir: &str) {
+    let dir = std::env::temp_dir().join(format!("{dir}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    for (what, text, field, reason) in cases {
+        assert_ne!(text, good, "{what}: the edit did not apply");
+        let path = dir.join("bad.toml");
+        std::fs::write(&path, text).expect("write");
+        let err = scene::load(path.to_str().expect("utf8")).expect_err(what);
+        let msg = err.to_string();
+        assert!(matches!(err, LopinError::Scene { .. }), "{what}: {msg}");
+        assert!(msg.contains("bad.toml"), "{what}: no file name in `{msg}`");
+        assert!(msg.contains(field), "{what}: no field `{field}` in `{msg}`");
+        assert!(
+            msg.contains(reason),
+            "{what}: no reason `{reason}` in `{msg}`"
+        );
+    }
+}
+
 /// Each malformed file gives an error naming the file, the field and the reason.
 #[test]
 fn malformed_scene_files_get_clear_errors() {
@@ -114,22 +135,7 @@ fn malformed_scene_files_get_clear_errors() {
             "already have an override (interface[0])",
         ),
     ];
-    let dir = std::env::temp_dir().join(format!("lopin-bad-scenes-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    for (what, text, field, reason) in cases {
-        assert_ne!(text, good, "{what}: the edit did not apply");
-        let path = dir.join("bad.toml");
-        std::fs::write(&path, &text).expect("write");
-        let err = scene::load(path.to_str().expect("utf8")).expect_err(what);
-        let msg = err.to_string();
-        assert!(matches!(err, LopinError::Scene { .. }), "{what}: {msg}");
-        assert!(msg.contains("bad.toml"), "{what}: no file name in `{msg}`");
-        assert!(msg.contains(field), "{what}: no field `{field}` in `{msg}`");
-        assert!(
-            msg.contains(reason),
-            "{what}: no reason `{reason}` in `{msg}`"
-        );
-    }
+    assert_clear_errors(&good, &cases, "lopin-bad-scenes");
     let err = scene::load("no-such-scene").expect_err("unknown");
     assert!(
         err.to_string().contains("two-blocks"),
@@ -617,22 +623,7 @@ fn malformed_granular_files_get_clear_errors() {
             "non-negative",
         ),
     ];
-    let dir = std::env::temp_dir().join(format!("lopin-bad-granular-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    for (what, text, field, reason) in cases {
-        assert_ne!(text, good, "{what}: the edit did not apply");
-        let path = dir.join("bad.toml");
-        std::fs::write(&path, &text).expect("write");
-        let err = scene::load(path.to_str().expect("utf8")).expect_err(what);
-        let msg = err.to_string();
-        assert!(matches!(err, LopinError::Scene { .. }), "{what}: {msg}");
-        assert!(msg.contains("bad.toml"), "{what}: no file name in `{msg}`");
-        assert!(msg.contains(field), "{what}: no field `{field}` in `{msg}`");
-        assert!(
-            msg.contains(reason),
-            "{what}: no reason `{reason}` in `{msg}`"
-        );
-    }
+    assert_clear_errors(&good, &cases, "lopin-bad-granular");
     // `--split` has no meaning for a granular scene: the build says so
     let mut spec = scene::registry::builtin("granular-small").expect("registry");
     spec.split(2);
