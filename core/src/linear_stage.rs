@@ -109,11 +109,6 @@ impl LinearWork {
         }
     }
 
-    /// The velocity of the step being solved: v¹ after [`predict`], v_m after [`complete`].
-    pub fn velocity(&self) -> &[f64] {
-        &self.rhs
-    }
-
     /// Gathers ŝ of step m from the interface sides of `sub` into trace layout.
     pub fn gather_hat(
         &mut self,
@@ -170,8 +165,8 @@ pub fn linear_stage(
 }
 
 /// Micro solve of step m (METHOD §4; §9 step 1): gathers ŝ_m, forms
-/// r_m + Bᵀ A (F̂_m + k Ŵ_m) and solves with S. Afterwards [`LinearWork::velocity`] is v¹ and
-/// [`trial_force`] gives F¹ = F̂_m + k (Ŵ_m − B v¹); [`complete`] ends the step.
+/// r_m + Bᵀ A (F̂_m + k Ŵ_m) and solves with S for v¹. Afterwards [`trial_force`] gives
+/// F¹ = F̂_m + k (Ŵ_m − B v¹); [`complete`] ends the step.
 pub fn predict(
     sub: &Substructure,
     factor: &CholeskyFactor,

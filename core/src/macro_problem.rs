@@ -49,6 +49,8 @@ pub struct MacroProblem {
     pub size: usize,
     /// Macro sides of every substructure, in trace order.
     pub sides: Vec<Vec<MacroSide>>,
+    /// Global macro dof of each macro unknown of every substructure.
+    pub global: Vec<Vec<usize>>,
     /// Homogenized class of every substructure and the class representatives.
     pub classes: Classes,
     /// Homogenized operator of every class.
@@ -118,10 +120,21 @@ impl MacroProblem {
             let s = classes.representatives[c];
             homogenize(problem, s, &sides[s], &bases, k, factor_of(s))
         });
+        let global: Vec<Vec<usize>> = sides
+            .iter()
+            .map(|sub_sides| {
+                sub_sides
+                    .iter()
+                    .flat_map(|m| {
+                        let count = bases[m.interface].as_ref().map_or(0, |b| b.count);
+                        offsets[m.interface]..offsets[m.interface] + count
+                    })
+                    .collect()
+            })
+            .collect();
         let mut triplets = Vec::new();
-        for (s, sub_sides) in sides.iter().enumerate() {
+        for (s, global) in global.iter().enumerate() {
             let h = &homogenized[classes.of[s]];
-            let global = global_dofs(sub_sides, &bases, &offsets);
             for (a, &ga) in global.iter().enumerate() {
                 for (b, &gb) in global.iter().enumerate() {
                     if ga >= gb {
@@ -150,6 +163,7 @@ impl MacroProblem {
             offsets,
             size,
             sides,
+            global,
             classes,
             homogenized,
             factor,
@@ -172,11 +186,6 @@ impl MacroProblem {
     /// Stored values of the Cholesky factor of L.
     pub fn factor_nnz(&self) -> usize {
         self.factor.factor_nnz()
-    }
-
-    /// The global macro dof of each of substructure `s`'s macro unknowns.
-    pub fn global_dofs(&self, s: usize) -> Vec<usize> {
-        global_dofs(&self.sides[s], &self.bases, &self.offsets)
     }
 
     /// The homogenized operator of substructure `s`.
@@ -214,16 +223,6 @@ impl MacroProblem {
             );
         }
     }
-}
-
-fn global_dofs(sides: &[MacroSide], bases: &[Option<MacroBasis>], offsets: &[usize]) -> Vec<usize> {
-    let mut g = Vec::new();
-    for m in sides {
-        if let Some(b) = &bases[m.interface] {
-            g.extend(offsets[m.interface]..offsets[m.interface] + b.count);
-        }
-    }
-    g
 }
 
 /// Z_E and L_E of substructure `s` (METHOD §9 "Homogenised operator").

@@ -96,6 +96,29 @@ impl Mesh {
     }
 
     /// Axis-aligned bounding box (min, max).
+    /// A key equal for meshes equal up to a translation: element connectivity and node
+    /// coordinates relative to the first node, rounded to 1e-9 of the mesh size (so translated
+    /// copies match although their coordinates differ in the last bits).
+    pub fn translation_key(&self) -> Vec<i64> {
+        let (lo, hi) = self.bounding_box();
+        let size = (0..3)
+            .map(|c| hi[c] - lo[c])
+            .fold(0.0f64, f64::max)
+            .max(f64::MIN_POSITIVE);
+        let origin = self.nodes.first().copied().unwrap_or([0.0; 3]);
+        let mut key = vec![self.nodes.len() as i64, self.elements.len() as i64];
+        for e in &self.elements {
+            match e {
+                Element::Hex8(n) => key.extend(n.iter().map(|&x| x as i64)),
+            }
+        }
+        for p in &self.nodes {
+            key.extend((0..3).map(|c| ((p[c] - origin[c]) / (1e-9 * size)).round() as i64));
+        }
+        key
+    }
+
+    /// Lower and upper corners of the nodes.
     pub fn bounding_box(&self) -> (Vec3, Vec3) {
         let mut lo = [f64::INFINITY; 3];
         let mut hi = [f64::NEG_INFINITY; 3];

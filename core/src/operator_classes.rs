@@ -5,14 +5,13 @@
 //! once") and ONE homogenized operator: a granular material cut into identical cells needs only
 //! a handful.
 //!
-//! Equality is judged on coordinates relative to the substructure's first node and on areas,
-//! rounded to 1e-9 of the substructure size (resp. of its largest area), so that translated
-//! copies match although their coordinates differ in the last bits.
+//! Equality is judged on the mesh up to a translation ([`crate::mesh::Mesh::translation_key`]) and
+//! on areas rounded to 1e-9 of the largest one, so that translated copies match although their
+//! coordinates differ in the last bits.
 
 use std::collections::HashMap;
 
 use crate::macro_basis::MacroBasis;
-use crate::mesh::Element;
 use crate::substructure::Substructure;
 
 /// Relative resolution of the comparison.
@@ -71,23 +70,7 @@ fn operator_key(sub: &Substructure) -> Vec<i64> {
         .iter()
         .map(|x| x.to_bits() as i64)
         .collect();
-    let nodes = &sub.mesh.nodes;
-    key.push(nodes.len() as i64);
-    key.push(sub.mesh.elements.len() as i64);
-    for e in &sub.mesh.elements {
-        match e {
-            Element::Hex8(n) => key.extend(n.iter().map(|&x| x as i64)),
-        }
-    }
-    let (lo, hi) = sub.mesh.bounding_box();
-    let size = (0..3)
-        .map(|c| (hi[c] - lo[c]).abs())
-        .fold(0.0f64, f64::max)
-        .max(f64::MIN_POSITIVE);
-    let origin = nodes.first().copied().unwrap_or([0.0; 3]);
-    for p in nodes {
-        key.extend((0..3).map(|c| quantize(p[c] - origin[c], size)));
-    }
+    key.extend(sub.mesh.translation_key());
     let mut diag: Vec<(usize, f64)> = Vec::with_capacity(sub.trace_len());
     let mut sums: HashMap<usize, f64> = HashMap::new();
     for (&d, &a) in sub.trace_dofs.iter().zip(&sub.trace_area) {

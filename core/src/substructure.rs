@@ -40,28 +40,15 @@ pub struct Substructure {
     pub sides: Vec<(usize, usize)>,
 }
 
-/// Stiffness matrices already assembled, by mesh (relative to its first node, to 1e-9 of its
-/// size) and material.
+/// Stiffness matrices already assembled, by mesh up to a translation
+/// ([`Mesh::translation_key`]) and material.
 #[derive(Debug, Default)]
 pub struct StiffnessCache(HashMap<Vec<i64>, Arc<SymmetricMatrix>>);
 
 impl StiffnessCache {
     fn key(mesh: &Mesh, material_id: usize) -> Vec<i64> {
-        let (lo, hi) = mesh.bounding_box();
-        let size = (0..3)
-            .map(|c| hi[c] - lo[c])
-            .fold(0.0f64, f64::max)
-            .max(f64::MIN_POSITIVE);
-        let origin = mesh.nodes.first().copied().unwrap_or([0.0; 3]);
-        let mut key = vec![material_id as i64, mesh.nodes.len() as i64];
-        for p in &mesh.nodes {
-            key.extend((0..3).map(|c| ((p[c] - origin[c]) / (1e-9 * size)).round() as i64));
-        }
-        for e in &mesh.elements {
-            match e {
-                Element::Hex8(n) => key.extend(n.iter().map(|&x| x as i64)),
-            }
-        }
+        let mut key = vec![material_id as i64];
+        key.extend(mesh.translation_key());
         key
     }
 }

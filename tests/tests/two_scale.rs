@@ -44,6 +44,33 @@ fn settings(spec: &SceneSpec, tol: f64, two_scale: bool) -> (lopin_core::Problem
     (problem, s)
 }
 
+/// The reference solution, a single-scale solve and a two-scale solver (not yet solved) of a
+/// scene at tolerance `tol`.
+struct Three {
+    reference: Monolithic,
+    mono: lopin_core::monolithic::MonoSolution,
+    single: Solver,
+    single_sol: lopin_core::Solution,
+    two: Solver,
+}
+
+fn three(spec: &SceneSpec, tol: f64) -> Three {
+    let (problem, two) = settings(spec, tol, true);
+    let (_, one) = settings(spec, tol, false);
+    let reference = Monolithic::new(problem.clone()).expect("reference");
+    let mono = reference.solve().expect("reference solve");
+    let mut single = Solver::new(problem.clone(), one).expect("single-scale setup");
+    let single_sol = single.solve(None).expect("single-scale");
+    let two = Solver::new(problem, two).expect("two-scale setup");
+    Three {
+        reference,
+        mono,
+        single,
+        single_sol,
+        two,
+    }
+}
+
 /// two-blocks cut 2 × 2 per block: 8 substructures, perfect and contact interfaces. At
 /// η < 1e-9 two-scale = single-scale = monolithic to 1e-6 of the peak velocity; the macro
 /// imbalance stays below 1e-10 at every iteration.
@@ -51,13 +78,13 @@ fn settings(spec: &SceneSpec, tol: f64, two_scale: bool) -> (lopin_core::Problem
 fn two_scale_equals_single_scale_and_the_reference_with_contact() {
     let mut spec = scene::load("two-blocks").expect("scene");
     spec.split(2);
-    let (problem, two) = settings(&spec, 1e-9, true);
-    let (_, one) = settings(&spec, 1e-9, false);
-    let reference = Monolithic::new(problem.clone()).expect("reference");
-    let mono = reference.solve().expect("reference solve");
-    let mut single = Solver::new(problem.clone(), one).expect("single-scale setup");
-    let single_sol = single.solve(None).expect("single-scale");
-    let mut solver = Solver::new(problem, two).expect("two-scale setup");
+    let Three {
+        reference,
+        mono,
+        single,
+        single_sol,
+        two: mut solver,
+    } = three(&spec, 1e-9);
     let mp = solver.macro_problem().expect("macro problem");
     let internal = solver
         .problem()
@@ -166,13 +193,13 @@ face = "z-"
 clamped = true
 "#;
     let spec = scene::from_toml(text, "cube-4").expect("scene");
-    let (problem, two) = settings(&spec, 1e-8, true);
-    let (_, one) = settings(&spec, 1e-8, false);
-    let reference = Monolithic::new(problem.clone()).expect("reference");
-    let mono = reference.solve().expect("reference solve");
-    let mut single = Solver::new(problem.clone(), one).expect("single");
-    let single_sol = single.solve(None).expect("single solve");
-    let mut solver = Solver::new(problem, two).expect("two-scale");
+    let Three {
+        reference,
+        mono,
+        single,
+        single_sol,
+        two: mut solver,
+    } = three(&spec, 1e-8);
     let sol = solver.solve(None).expect("two-scale solve");
     let factors = solver.classes().count();
     // shared factorizations give the reference's solution

@@ -21,9 +21,9 @@ use crate::state::TraceHistory;
 use crate::substructure::Substructure;
 
 /// Per-substructure buffers of the macro steps.
-struct MacroWork {
+struct MacroWork<'a> {
     /// Global macro dof of each macro unknown of the substructure.
-    global: Vec<usize>,
+    global: &'a [usize],
     /// F¹ on the trace, then Ê α on the trace.
     trace: Vec<f64>,
     /// Êᵀ A F¹, then α_E.
@@ -53,7 +53,7 @@ pub(super) fn linear_stage_two_scale(
         .iter()
         .enumerate()
         .map(|(i, sub)| {
-            let global = mp.global_dofs(i);
+            let global = &mp.global[i];
             MacroWork {
                 local: vec![0.0; global.len()],
                 global,
@@ -98,7 +98,7 @@ pub(super) fn linear_stage_two_scale(
         let b = &b;
         let step_sums = par::map_mut(&mut bundle, |i, (work, mw, out)| {
             let sub = &ts.subs[i];
-            for (a, &g) in mw.local.iter_mut().zip(&mw.global) {
+            for (a, &g) in mw.local.iter_mut().zip(mw.global) {
                 *a = b[g];
             }
             mp.expand(i, &mw.local, &mut mw.trace);
