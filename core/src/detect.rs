@@ -8,7 +8,7 @@ use std::collections::{BTreeMap, HashMap};
 use crate::error::{LopinError, Result};
 use crate::interface::{BoundaryDof, Contact, Interface, Law, Side};
 use crate::mesh::{dot, norm, sub, Face, Vec3};
-use crate::substructure::Substructure;
+use crate::substructure::{SideRef, Substructure};
 
 /// How two bodies are joined where their substructures meet.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -218,7 +218,10 @@ pub fn assemble_traces(subs: &mut [Substructure], interfaces: &mut [Interface]) 
         for (k, side) in iface.sides.iter_mut().enumerate() {
             let sub = &mut subs[side.sub];
             side.offset = sub.trace_len();
-            sub.sides.push((i, k));
+            sub.sides.push(SideRef {
+                interface: i,
+                side: k,
+            });
             match &boundary {
                 Some(laws) => {
                     for ((&n, law), &a) in side.nodes.iter().zip(laws).zip(&iface.area) {
@@ -409,4 +412,114 @@ fn scale(v: Vec3, s: f64) -> Vec3 {
 
 fn neighbour_offsets() -> impl Iterator<Item = [i64; 3]> {
     (0..27).map(|i| [i % 3 - 1, (i / 3) % 3 - 1, i / 9 - 1])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::material::Material;
+    use crate::mesh::Mesh;
+
+    fn block(body: &str, min: Vec3, max: Vec3, div: [usize; 3]) -> Substructure {
+        let steel = Material {
+            young: 210e9,
+            poisson: 0.3,
+            density: 7800.0,
+        };
+        Substructure::assemble(
+            body.into(),
+            body.into(),
+            0,
+            Mesh::hex_box(min, max, div),
+            steel,
+            [0.0; 3],
+        )
+    }
+
+    /// Two unit cubes stacked along z (2×2×2 and 2×2×2 elements), the upper one `gap` above.
+    fn stacked(gap: f64) -> Vec<Substructure> {
+        vec![
+            block("A", [0.0; 3], [1.0, 1.0, 1.0], [2, 2, 2]),
+            block("B", [0.0, 0.0, 1.0 + gap], [1.0, 1.0, 2.0 + gap], [2, 2, 2]),
+        ]
+    }
+
+    #[test]
+    fn coincident_faces_become_one_perfect_interface_with_paired_nodes() {
+        let subs = stacked(0.0);
+        let found = detect_interfaces(&subs, &|_, _| PairRule::Perfect).expect("detect");
+        assert_eq!(found.len(), 1);
+        let i = &found[0];
+        assert!(matches!(i.law, Law::Perfect));
+        // 3×3 nodes on the shared face, 3 dofs each; areas sum to the face area per component
+        assert_eq!(i.node_count(), 9);
+        let area: f64 = i.area.iter().step_by(3).sum();
+        assert!((area - 1.0).abs() < 1e-12, "area {area}");
+        // corner, edge and centre nodes carry 1/16, 1/8 and 1/4 of the face
+        let mut a: Vec<f64> = i.area.iter().step_by(3).copied().collect();
+        a.sort_by(f64::total_cmp);
+        let expect = [
+            1.0 / 16.0,
+            1.0 / 16.0,
+            1.0 / 16.0,
+            1.0 / 16.0,
+            0.125,
+            0.125,
+            0.125,
+            0.125,
+            0.25,
+        ];
+        assert!(a.iter().zip(expect).all(|(x, y)| (x - y).abs() < 1e-12));
+        // paired nodes coincide
+        let (s0, s1) = (&i.sides[0], &i.sides[1]);
+        for (&n0, &n1) in s0.nodes.iter().zip(&s1.nodes) {
+            let p0 = subs[s0.sub].mesh.nodes[n0];
+            let p1 = subs[s1.sub].mesh.nodes[n1];
+            assert!(norm(sub(p0, p1)) < 1e-12);
+            assert!((p0[2] - 1.0).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn facing_faces_across_a_gap_become_contact_with_that_gap_and_normal() {
+        let gap = 1e-4;
+        let subs = stacked(gap);
+        let contact = |_: &str, _: &str| PairRule::Contact {
+            friction: 0.3,
+            gap: None,
+            search: 1e-3,
+        };
+        let found = detect_interfaces(&subs, &contact).expect("detect");
+        assert_eq!(found.len(), 1);
+        let Law::Contact(c) = &found[0].law else {
+            panic!("expected contact, got {:?}", found[0].law);
+        };
+        assert_eq!(c.friction, 0.3);
+        assert_eq!(c.gap.len(), 9);
+        assert!(c.gap.iter().all(|g| (g - gap).abs() < 1e-12), "{:?}", c.gap);
+        // normal outward of side 1 (the lower block): +z
+        assert!(c.normal.iter().all(|n| (n[2] - 1.0).abs() < 1e-12));
+        // beyond the search distance: nothing; a free pair: nothing
+        let far = |_: &str, _: &str| PairRule::Contact {
+            friction: 0.3,
+            gap: None,
+            search: 0.5e-4,
+        };
+        assert!(detect_interfaces(&subs, &far).expect("detect").is_empty());
+        let touching = stacked(0.0);
+        let free = detect_interfaces(&touching, &|_, _| PairRule::Free).expect("detect");
+        assert!(free.is_empty());
+    }
+
+    #[test]
+    fn non_conforming_shared_faces_are_an_error_naming_both_bodies() {
+        let subs = vec![
+            block("A", [0.0; 3], [1.0, 1.0, 1.0], [2, 2, 2]),
+            block("B", [0.0, 0.0, 1.0], [1.0, 1.0, 2.0], [3, 3, 2]),
+        ];
+        let err = detect_interfaces(&subs, &|_, _| PairRule::Perfect)
+            .expect_err("non-conforming faces")
+            .to_string();
+        assert!(err.contains('A') && err.contains('B'), "{err}");
+    }
 }

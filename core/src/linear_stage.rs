@@ -4,7 +4,7 @@
 //!   S v_m = r_m + Bᵀ A (F̂_m + k Ŵ_m),  r_m = M(2/Δt v + a) − K(u + Δt/2 v),
 //!   W_m = B v_m,  F_m = F̂_m + k (Ŵ_m − W_m),
 //!
-//! with the sums of the error indicator η (METHOD §6) accumulated on the way. A step is a
+//! with the sums of the error indicator η (METHOD §6, [`crate::indicator`]) accumulated on the way. A step is a
 //! [`predict`] (the micro solve) and a [`complete`]; between the two the two-scale linear stage
 //! (METHOD §9) solves its macro problem and passes the correction v_m = v¹ + k Z_E α_E.
 //!
@@ -14,6 +14,7 @@
 //! remain per step; METHOD §11 cost model).
 
 use crate::factor::{CholeskyFactor, SolveScratch};
+use crate::indicator::IndicatorSums;
 use crate::interface::Interface;
 use crate::state::TraceHistory;
 use crate::substructure::Substructure;
@@ -55,39 +56,17 @@ impl SubState {
 /// Called at every step with (m, state at m, F_m, W_m of the trace).
 pub type StepVisitor<'a> = dyn FnMut(usize, &SubState, &[f64], &[f64]) + 'a;
 
-/// Numerator and denominator sums of η² (METHOD §6).
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct IndicatorSums {
-    /// Σ A [(F − F̂)²/k + k (W − Ŵ)²].
-    pub num: f64,
-    /// ½ Σ A [(F² + F̂²)/k + k (W² + Ŵ²)].
-    pub den: f64,
-}
-
-impl IndicatorSums {
-    /// Adds another set of sums.
-    pub fn add(&mut self, o: IndicatorSums) {
-        self.num += o.num;
-        self.den += o.den;
-    }
-
-    /// η = √(num / den) (0 when both vanish).
-    pub fn eta(&self) -> f64 {
-        if self.num == 0.0 {
-            0.0
-        } else {
-            (self.num / self.den).sqrt()
-        }
-    }
-}
-
 /// Scratch vectors of one substructure's linear stage, allocated once.
 #[derive(Debug)]
 pub struct LinearWork {
     /// State marched in place.
     pub state: SubState,
-    y: Vec<f64>,
-    rhs: Vec<f64>,
+    /// The right-hand side of step m, r_m + Bᵀ A (F̂_m + k Ŵ_m), solved in place by [`predict`]:
+    /// v¹ after it, then v_m after [`complete`] applies the macro correction.
+    rhs_then_v: Vec<f64>,
+    /// A copy of the right-hand side of step m (plus the macro load), reduced by [`complete`] to
+    /// (Δt/2) K v_m, which the next step's right-hand side needs (see the module doc).
+    rhs_then_half_dt_kv: Vec<f64>,
     /// F̂ gathered into trace layout for the current step.
     pub fhat: Vec<f64>,
     /// Ŵ gathered into trace layout for the current step.
@@ -101,8 +80,8 @@ impl LinearWork {
         let n = sub.ndof();
         Self {
             state: SubState::initial(sub, dt),
-            y: vec![0.0; n],
-            rhs: vec![0.0; n],
+            rhs_then_v: vec![0.0; n],
+            rhs_then_half_dt_kv: vec![0.0; n],
             fhat: vec![0.0; sub.trace_len()],
             what: vec![0.0; sub.trace_len()],
             scratch: factor.scratch(),
@@ -117,9 +96,9 @@ impl LinearWork {
         hats: &[Vec<TraceHistory>],
         m: usize,
     ) {
-        for &(i, side) in &sub.sides {
-            let off = interfaces[i].sides[side].offset;
-            let h = &hats[i][side];
+        for side in &sub.sides {
+            let off = interfaces[side.interface].sides[side.side].offset;
+            let h = &hats[side.interface][side.side];
             let r = h.at(m);
             self.fhat[off..off + h.len].copy_from_slice(&h.f[r.clone()]);
             self.what[off..off + h.len].copy_from_slice(&h.w[r]);
@@ -178,8 +157,8 @@ pub fn predict(
     work.gather_hat(sub, input.interfaces, input.hats, m);
     let LinearWork {
         state,
-        y,
-        rhs,
+        rhs_then_half_dt_kv: y,
+        rhs_then_v: rhs,
         fhat,
         what,
         scratch,
@@ -199,7 +178,7 @@ pub fn predict(
 /// F¹ = F̂_m + k (Ŵ_m − B v¹) on the trace, after [`predict`] (METHOD §9 step 1).
 pub fn trial_force(sub: &Substructure, work: &LinearWork, k: f64, out: &mut [f64]) {
     for (j, &d) in sub.trace_dofs.iter().enumerate() {
-        out[j] = work.fhat[j] + k * (work.what[j] - work.rhs[d]);
+        out[j] = work.fhat[j] + k * (work.what[j] - work.rhs_then_v[d]);
     }
 }
 
@@ -229,8 +208,8 @@ pub fn complete(
     let (k, dt) = (input.k, input.dt);
     let LinearWork {
         state,
-        y,
-        rhs,
+        rhs_then_half_dt_kv: y,
+        rhs_then_v: rhs,
         fhat,
         what,
         ..
@@ -262,9 +241,7 @@ pub fn complete(
         let f = fhat[j] + k * (what[j] + macro_w - w);
         out.w[r.start + j] = w;
         out.f[r.start + j] = f;
-        let (df, dw) = (f - fhat[j], w - what[j]);
-        sums.num += a * (df * df / k + k * dw * dw);
-        sums.den += 0.5 * a * ((f * f + fhat[j] * fhat[j]) / k + k * (w * w + what[j] * what[j]));
+        sums.add_dof(a, k, (f, w), (fhat[j], what[j]));
     }
     for i in 0..n {
         let v_new = rhs[i];
@@ -276,4 +253,199 @@ pub fn complete(
         state.half_dt_kv[i] = y[i];
     }
     sums
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene;
+
+    /// Solves A x = b by Gaussian elimination with partial pivoting (dense, A row-major n×n).
+    fn dense_solve(mut a: Vec<f64>, mut b: Vec<f64>) -> Vec<f64> {
+        let n = b.len();
+        for c in 0..n {
+            let p = (c..n)
+                .max_by(|&i, &j| a[i * n + c].abs().total_cmp(&a[j * n + c].abs()))
+                .unwrap_or(c);
+            if p != c {
+                for j in 0..n {
+                    a.swap(c * n + j, p * n + j);
+                }
+                b.swap(c, p);
+            }
+            for r in c + 1..n {
+                let l = a[r * n + c] / a[c * n + c];
+                for j in c..n {
+                    a[r * n + j] -= l * a[c * n + j];
+                }
+                b[r] -= l * b[c];
+            }
+        }
+        for c in (0..n).rev() {
+            let s: f64 = (c + 1..n).map(|j| a[c * n + j] * b[j]).sum();
+            b[c] = (b[c] - s) / a[c * n + c];
+        }
+        b
+    }
+
+    /// A reproducible stream of numbers in [−1, 1).
+    fn noise(seed: &mut u64) -> f64 {
+        *seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (*seed >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+    }
+
+    /// Three steps of the linear stage of the `bar` scene's first substructure (60 dofs, a
+    /// boundary and a perfect interface on its trace) driven by random ŝ, against a dense
+    /// trapezoidal solve of the same steps: S v_m = M(2/Δt v + a) − K(u + Δt/2 v) + Bᵀ A (F̂ + k Ŵ)
+    /// with S = 2/Δt M + Δt/2 K + k Bᵀ A B formed densely and solved by Gaussian elimination
+    /// (METHOD §2, §4). Also checks the discrete equation of motion M a + K u = Bᵀ A F, the
+    /// search direction F − F̂ = −k (W − Ŵ) and the carried K u (module doc) at every step.
+    #[test]
+    fn linear_stage_matches_a_dense_trapezoidal_solve() {
+        let spec = scene::load("bar").expect("scene");
+        let problem = scene::build::build(&spec, "bar").expect("build");
+        let sub = &problem.subs[0];
+        let (n, dt, k) = (sub.ndof(), problem.time.dt, problem.default_k());
+        assert_eq!(n, 60);
+        assert!(
+            sub.sides.len() >= 2,
+            "a boundary and an interface on the trace"
+        );
+        let factor = CholeskyFactor::new(n, &sub.operator_triplets(dt, k)).expect("factor");
+        let steps = 3;
+        let mut seed = 7;
+        let scale_f = 1e6;
+        let hats: Vec<Vec<TraceHistory>> = problem
+            .interfaces
+            .iter()
+            .map(|i| {
+                i.sides
+                    .iter()
+                    .map(|_| {
+                        let mut h = TraceHistory::zeros(i.len, problem.time.steps);
+                        h.f.iter_mut().for_each(|x| *x = scale_f * noise(&mut seed));
+                        h.w.iter_mut().for_each(|x| *x = noise(&mut seed));
+                        h
+                    })
+                    .collect()
+            })
+            .collect();
+        let input = LinearInput {
+            interfaces: &problem.interfaces,
+            hats: &hats,
+            k,
+            dt,
+            steps: (1, steps),
+        };
+        let mut work = LinearWork::new(sub, &factor, dt);
+        // a non-trivial start: the initial velocity field plus noise in u and v
+        let start = {
+            let mut s = SubState::initial(sub, dt);
+            s.u.iter_mut().for_each(|x| *x = 1e-6 * noise(&mut seed));
+            s.v.iter_mut().for_each(|x| *x += noise(&mut seed));
+            sub.stiffness.mul_into(&s.u, &mut s.ku);
+            sub.stiffness.mul_into(&s.v, &mut s.half_dt_kv);
+            s.half_dt_kv.iter_mut().for_each(|x| *x *= 0.5 * dt);
+            s
+        };
+        work.state = start.clone();
+        let mut out = TraceHistory::zeros(sub.trace_len(), problem.time.steps);
+        let mut states = Vec::new();
+        linear_stage(
+            sub,
+            &factor,
+            &mut work,
+            &input,
+            &mut out,
+            Some(&mut |_, st: &SubState, _: &[f64], _: &[f64]| states.push(st.clone())),
+        );
+        // dense K and S
+        let mut kd = vec![0.0; n * n];
+        let mut col = vec![0.0; n];
+        let mut e = vec![0.0; n];
+        for j in 0..n {
+            e[j] = 1.0;
+            sub.stiffness.mul_into(&e, &mut col);
+            e[j] = 0.0;
+            for i in 0..n {
+                kd[i * n + j] = col[i];
+            }
+        }
+        let mut sd: Vec<f64> = kd.iter().map(|x| 0.5 * dt * x).collect();
+        for i in 0..n {
+            sd[i * n + i] += 2.0 / dt * sub.mass[i];
+        }
+        for (j, &d) in sub.trace_dofs.iter().enumerate() {
+            sd[d * n + d] += k * sub.trace_area[j];
+        }
+        let kmul = |x: &[f64]| -> Vec<f64> {
+            (0..n)
+                .map(|i| (0..n).map(|j| kd[i * n + j] * x[j]).sum())
+                .collect()
+        };
+        let rel = |a: &[f64], b: &[f64]| {
+            let d = a
+                .iter()
+                .zip(b)
+                .map(|(x, y)| (x - y).abs())
+                .fold(0.0, f64::max);
+            d / b.iter().map(|x| x.abs()).fold(f64::MIN_POSITIVE, f64::max)
+        };
+        let mut prev = start;
+        let mut ghat = LinearWork::new(sub, &factor, dt);
+        for m in 1..=steps {
+            ghat.gather_hat(sub, &problem.interfaces, &hats, m);
+            let (fhat, what) = (&ghat.fhat, &ghat.what);
+            let kpre: Vec<f64> = prev
+                .u
+                .iter()
+                .zip(&prev.v)
+                .map(|(u, v)| u + 0.5 * dt * v)
+                .collect();
+            let kpre = kmul(&kpre);
+            let mut rhs: Vec<f64> = (0..n)
+                .map(|i| sub.mass[i] * (2.0 / dt * prev.v[i] + prev.a[i]) - kpre[i])
+                .collect();
+            for (j, &d) in sub.trace_dofs.iter().enumerate() {
+                rhs[d] += sub.trace_area[j] * (fhat[j] + k * what[j]);
+            }
+            let v = dense_solve(sd.clone(), rhs);
+            let st = &states[m - 1];
+            assert!(rel(&st.v, &v) < 1e-10, "step {m}: v {}", rel(&st.v, &v));
+            // search direction and W = B v on the trace
+            let r = out.at(m);
+            for (j, &d) in sub.trace_dofs.iter().enumerate() {
+                let (f, w) = (out.f[r.start + j], out.w[r.start + j]);
+                assert!((w - st.v[d]).abs() <= 1e-12 * st.v[d].abs().max(1.0));
+                assert!((f - fhat[j] + k * (w - what[j])).abs() <= 1e-9 * scale_f);
+            }
+            // M a + K u = Bᵀ A F, and the carried K u
+            let ku = kmul(&st.u);
+            assert!(
+                rel(&st.ku, &ku) < 1e-10,
+                "step {m}: K u {}",
+                rel(&st.ku, &ku)
+            );
+            let mut force = vec![0.0; n];
+            for (j, &d) in sub.trace_dofs.iter().enumerate() {
+                force[d] += sub.trace_area[j] * out.f[r.start + j];
+            }
+            let lhs: Vec<f64> = (0..n).map(|i| sub.mass[i] * st.a[i] + ku[i]).collect();
+            assert!(
+                rel(&lhs, &force) < 1e-9,
+                "step {m}: motion {}",
+                rel(&lhs, &force)
+            );
+            // trapezoidal kinematics
+            for i in 0..n {
+                let du = prev.u[i] + 0.5 * dt * (prev.v[i] + st.v[i]) - st.u[i];
+                let dv = prev.v[i] + 0.5 * dt * (prev.a[i] + st.a[i]) - st.v[i];
+                assert!(du.abs() <= 1e-12 * st.u[i].abs().max(1e-9));
+                assert!(dv.abs() <= 1e-10 * st.v[i].abs().max(1.0));
+            }
+            prev = st.clone();
+        }
+    }
 }

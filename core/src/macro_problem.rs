@@ -14,6 +14,7 @@ use crate::macro_basis::MacroBasis;
 use crate::operator_classes::{homogenized_classes, Classes};
 use crate::par;
 use crate::problem::Problem;
+use crate::substructure::SideRef;
 use faer::sparse::Triplet;
 
 /// One macro side of a substructure: an internal interface on its trace.
@@ -97,7 +98,7 @@ impl MacroProblem {
                 let mut local = 0;
                 sub.sides
                     .iter()
-                    .filter_map(|&(i, side)| {
+                    .filter_map(|&SideRef { interface: i, side }| {
                         let b = bases[i].as_ref()?;
                         let s = MacroSide {
                             interface: i,

@@ -7,13 +7,22 @@ use crate::material::Material;
 use crate::substructure::Substructure;
 use crate::time_function::TimeGrid;
 
+/// A material of the scene, with the name its bodies refer to it by.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NamedMaterial {
+    /// Name in the scene file.
+    pub name: String,
+    /// Elastic constants and density.
+    pub material: Material,
+}
+
 /// A decomposed structure ready to be solved.
 #[derive(Debug, Clone)]
 pub struct Problem {
     /// Scene name.
     pub name: String,
     /// Materials (index = `Substructure::material_id`).
-    pub materials: Vec<(String, Material)>,
+    pub materials: Vec<NamedMaterial>,
     /// Substructures.
     pub subs: Vec<Substructure>,
     /// Interfaces.
@@ -37,7 +46,7 @@ impl Problem {
         used.sort_unstable();
         used.dedup();
         used.iter()
-            .map(|&i| self.materials[i].1.impedance())
+            .map(|&i| self.materials[i].material.impedance())
             .sum::<f64>()
             / used.len() as f64
     }
@@ -48,7 +57,7 @@ impl Problem {
     }
 
     /// Sets the friction coefficient of every contact interface.
-    pub fn set_friction(&mut self, f: f64) {
+    pub(crate) fn set_friction(&mut self, f: f64) {
         for i in &mut self.interfaces {
             if let Law::Contact(c) = &mut i.law {
                 c.friction = f;
@@ -70,7 +79,7 @@ impl Problem {
 
     /// Sets the amplitude of every non-zero prescribed velocity to `v` (m/s), keeping the
     /// directions of the scene.
-    pub fn set_velocity_amplitude(&mut self, v: f64) {
+    pub(crate) fn set_velocity_amplitude(&mut self, v: f64) {
         for (i, signs) in self.interfaces.iter_mut().zip(&self.velocity_signs) {
             if let Law::Boundary(d) = &mut i.law {
                 for (dof, &sign) in d.iter_mut().zip(signs) {
@@ -81,7 +90,7 @@ impl Problem {
     }
 
     /// Sets the initial gap g0 of every node of every contact interface.
-    pub fn set_gap(&mut self, g0: f64) {
+    pub(crate) fn set_gap(&mut self, g0: f64) {
         for i in &mut self.interfaces {
             if let Law::Contact(c) = &mut i.law {
                 c.gap.iter_mut().for_each(|g| *g = g0);

@@ -36,8 +36,17 @@ pub struct Substructure {
     pub trace_dofs: Vec<usize>,
     /// Area A of each trace entry.
     pub trace_area: Vec<f64>,
-    /// (interface, side) pairs whose dofs make up the trace, in trace order.
-    pub sides: Vec<(usize, usize)>,
+    /// The interface sides whose dofs make up the trace, in trace order.
+    pub sides: Vec<SideRef>,
+}
+
+/// One side of an interface, as a substructure's trace holds it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SideRef {
+    /// Index of the interface in the problem.
+    pub interface: usize,
+    /// Which of its sides (0 or 1; boundaries have one).
+    pub side: usize,
 }
 
 /// Stiffness matrices already assembled, by mesh up to a translation

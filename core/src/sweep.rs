@@ -3,52 +3,7 @@
 //! the converged states of the previous ones.
 
 use crate::error::{LopinError, Result};
-use crate::solver::Solver;
 use crate::state::InterfaceState;
-
-/// A sweepable parameter.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Parameter {
-    /// Friction coefficient f of every contact interface.
-    Friction,
-    /// Initial gap g0 (m) of every contact node.
-    Gap,
-    /// Amplitude V0 (m/s) of every non-zero prescribed velocity.
-    VelocityAmplitude,
-}
-
-impl Parameter {
-    /// Parses `f`/`friction`, `gap`/`g0`, `v0`/`velocity`.
-    pub fn parse(name: &str) -> Result<Self> {
-        match name {
-            "f" | "friction" => Ok(Self::Friction),
-            "gap" | "g0" => Ok(Self::Gap),
-            "v0" | "velocity" => Ok(Self::VelocityAmplitude),
-            _ => Err(LopinError::setting(
-                "param",
-                format!("unknown parameter `{name}` (sweepable: f, gap, v0)"),
-            )),
-        }
-    }
-
-    /// Short name used in files and tables.
-    pub fn name(&self) -> &'static str {
-        match self {
-            Self::Friction => "f",
-            Self::Gap => "gap",
-            Self::VelocityAmplitude => "v0",
-        }
-    }
-
-    /// Sets the parameter on the solver's problem (no refactorization).
-    pub fn apply(&self, solver: &mut Solver, value: f64) -> Result<()> {
-        match self {
-            Self::Friction => solver.set_friction(value),
-            Self::Gap => solver.set_gap(value),
-            Self::VelocityAmplitude => solver.set_velocity_amplitude(value),
-        }
-    }
-}
 
 /// How the start state of the next value is built.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

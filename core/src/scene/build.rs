@@ -10,7 +10,7 @@ use crate::error::{LopinError, Result};
 use crate::interface::{BoundaryDof, DofLaw};
 use crate::material::Material;
 use crate::mesh::{Mesh, Vec3};
-use crate::problem::Problem;
+use crate::problem::{NamedMaterial, Problem};
 use crate::scene::granular;
 use crate::scene::spec::{BoundarySpec, ComponentSpec, InterfaceKind, SceneSpec};
 use crate::substructure::{StiffnessCache, Substructure};
@@ -300,28 +300,39 @@ fn pair_key(body_index: &HashMap<&str, usize>, bodies: &[String; 2]) -> (usize, 
     (a.min(b), a.max(b))
 }
 
+/// One substructure of a body before assembly: a box of hexahedra.
+struct Piece {
+    /// Index of the body.
+    body: usize,
+    /// Substructure name (`body` or `body[i,j,k]` when the body is split).
+    name: String,
+    /// Lower and upper corners.
+    min: Vec3,
+    max: Vec3,
+    /// Elements along x, y, z.
+    divisions: [usize; 3],
+}
+
 /// Builds the discrete problem of a scene (validated first; a `[granular]` table is expanded).
 pub fn build(spec: &SceneSpec, source: &str) -> Result<Problem> {
     if spec.granular.is_some() {
         return build(&granular::expand(spec, source)?, source);
     }
     validate(spec, source)?;
-    let materials: Vec<(String, Material)> = spec
+    let materials: Vec<NamedMaterial> = spec
         .materials
         .iter()
-        .map(|m| {
-            (
-                m.name.clone(),
-                Material {
-                    young: m.young,
-                    poisson: m.poisson,
-                    density: m.density,
-                },
-            )
+        .map(|m| NamedMaterial {
+            name: m.name.clone(),
+            material: Material {
+                young: m.young,
+                poisson: m.poisson,
+                density: m.density,
+            },
         })
         .collect();
-    // the substructures to assemble: (body, name, lower corner, upper corner, divisions)
-    let mut pieces: Vec<(usize, String, Vec3, Vec3, [usize; 3])> = Vec::new();
+    // the substructures to assemble
+    let mut pieces: Vec<Piece> = Vec::new();
     let mut body_subs: Vec<Vec<usize>> = Vec::new();
     for (body, b) in spec.bodies.iter().enumerate() {
         let [sx, sy, sz] = b.split;
@@ -344,7 +355,13 @@ pub fn build(spec: &SceneSpec, source: &str) -> Result<Problem> {
                         format!("{}[{ix},{iy},{iz}]", b.name)
                     };
                     ids.push(pieces.len());
-                    pieces.push((body, name, lo, hi, div));
+                    pieces.push(Piece {
+                        body,
+                        name,
+                        min: lo,
+                        max: hi,
+                        divisions: div,
+                    });
                 }
             }
         }
@@ -356,7 +373,7 @@ pub fn build(spec: &SceneSpec, source: &str) -> Result<Problem> {
         .map(|b| {
             materials
                 .iter()
-                .position(|m| m.0 == b.material)
+                .position(|m| m.name == b.material)
                 .unwrap_or_default()
         })
         .collect();
@@ -365,15 +382,15 @@ pub fn build(spec: &SceneSpec, source: &str) -> Result<Problem> {
     let mut cache = StiffnessCache::default();
     let mut subs: Vec<Substructure> = pieces
         .iter()
-        .map(|(body, name, lo, hi, div)| {
-            let b = &spec.bodies[*body];
-            let material_id = material_of[*body];
+        .map(|piece| {
+            let b = &spec.bodies[piece.body];
+            let material_id = material_of[piece.body];
             Substructure::assemble_cached(
-                name.clone(),
+                piece.name.clone(),
                 b.name.clone(),
                 material_id,
-                Mesh::hex_box(*lo, *hi, *div),
-                materials[material_id].1,
+                Mesh::hex_box(piece.min, piece.max, piece.divisions),
+                materials[material_id].material,
                 b.velocity,
                 &mut cache,
             )

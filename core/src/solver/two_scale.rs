@@ -8,108 +8,137 @@
 //!    F_m = F̂_m + k (Ŵ_m + Ê α_E − W_m), then u_m, a_m.
 //!
 //! After step 4 the macro forces balance on every internal interface: Êᵀ A F_E + Êᵀ A F_E' = 0.
+//! [`TwoScale`] owns the macro problem and every buffer the steps use, allocated once when the
+//! variant is made; a window allocates nothing.
 
+use super::linear::{LinearOutcome, Operators};
 use crate::counters::Instant;
-use crate::factor::CholeskyFactor;
+use crate::factor::SolveScratch;
+use crate::indicator::IndicatorSums;
 use crate::linear_stage::{
-    complete, predict, trial_force, Correction, IndicatorSums, LinearInput, LinearWork, SubState,
+    complete, predict, trial_force, Correction, LinearInput, LinearWork, SubState,
 };
 use crate::macro_problem::MacroProblem;
-use crate::operator_classes::Classes;
 use crate::par;
 use crate::state::TraceHistory;
-use crate::substructure::Substructure;
 
-/// Per-substructure buffers of the macro steps.
-struct MacroWork<'a> {
-    /// Global macro dof of each macro unknown of the substructure.
-    global: &'a [usize],
-    /// F¹ on the trace, then Ê α on the trace.
+/// One substructure's buffers in the two-scale stage.
+#[derive(Debug)]
+struct TwoScaleSub {
+    work: LinearWork,
+    /// F¹ on the trace after step 1; Ê α on the trace after step 4.
     trace: Vec<f64>,
-    /// Êᵀ A F¹, then α_E.
-    local: Vec<f64>,
+    /// Êᵀ A F¹ after step 1; α_E (its macro unknowns) after step 4.
+    macro_local: Vec<f64>,
+    /// η sums of the current step.
+    sums: IndicatorSums,
 }
 
-/// What the two-scale stage needs besides the per-substructure buffers.
-pub(super) struct TwoScale<'a> {
-    pub subs: &'a [Substructure],
-    pub classes: &'a Classes,
-    pub factors: &'a [CholeskyFactor],
-    pub macro_problem: &'a MacroProblem,
+/// The two-scale linear stage (METHOD §9) with its macro problem.
+#[derive(Debug)]
+pub(crate) struct TwoScale {
+    macro_problem: MacroProblem,
+    subs: Vec<TwoScaleSub>,
+    /// The macro right-hand side b, then α (global macro dofs).
+    macro_rhs: Vec<f64>,
+    scratch: SolveScratch,
 }
 
-/// Marches the window of `lin` for all substructures from `states` (the state at m0 − 1),
-/// writing s_new into `out`. Returns the η sums and the seconds spent in steps 2–3.
-pub(super) fn linear_stage_two_scale(
-    ts: &TwoScale<'_>,
-    works: &mut [LinearWork],
-    states: &[SubState],
-    lin: &LinearInput<'_>,
-    out: &mut [TraceHistory],
-) -> (IndicatorSums, f64) {
-    let mp = ts.macro_problem;
-    let mut macro_works: Vec<MacroWork> = ts
-        .subs
-        .iter()
-        .enumerate()
-        .map(|(i, sub)| {
-            let global = &mp.global[i];
-            MacroWork {
-                local: vec![0.0; global.len()],
-                global,
-                trace: vec![0.0; sub.trace_len()],
-            }
-        })
-        .collect();
-    let mut bundle: Vec<(&mut LinearWork, &mut MacroWork, &mut TraceHistory)> = works
-        .iter_mut()
-        .zip(macro_works.iter_mut())
-        .zip(out.iter_mut())
-        .map(|((w, m), o)| (w, m, o))
-        .collect();
-    for (i, (w, _, _)) in bundle.iter_mut().enumerate() {
-        w.state.clone_from(&states[i]);
-    }
-    let mut b = vec![0.0; mp.size];
-    let mut scratch = mp.scratch();
-    let mut sums = IndicatorSums::default();
-    let mut macro_s = 0.0;
-    let (m0, m1) = lin.steps;
-    for m in m0..=m1 {
-        // 1. micro solves and macro forces of F¹
-        par::map_mut(&mut bundle, |i, (work, mw, _)| {
-            let sub = &ts.subs[i];
-            predict(sub, &ts.factors[ts.classes.of[i]], work, lin, m);
-            trial_force(sub, work, lin.k, &mut mw.trace);
-            mw.local.iter_mut().for_each(|x| *x = 0.0);
-            mp.project(i, &sub.trace_area, &mw.trace, &mut mw.local);
-        });
-        // 2.–3. macro right-hand side and solve
-        let t = Instant::now();
-        b.iter_mut().for_each(|x| *x = 0.0);
-        for (_, mw, _) in &bundle {
-            for (&g, &r) in mw.global.iter().zip(&mw.local) {
-                b[g] -= r;
-            }
+impl TwoScale {
+    /// The stage over these buffers and this macro problem (built for the same k).
+    pub fn new(works: Vec<LinearWork>, macro_problem: MacroProblem) -> Self {
+        let subs = works
+            .into_iter()
+            .enumerate()
+            .map(|(i, work)| TwoScaleSub {
+                trace: vec![0.0; work.fhat.len()],
+                macro_local: vec![0.0; macro_problem.global[i].len()],
+                work,
+                sums: IndicatorSums::default(),
+            })
+            .collect();
+        Self {
+            macro_rhs: vec![0.0; macro_problem.size],
+            scratch: macro_problem.scratch(),
+            macro_problem,
+            subs,
         }
-        mp.solve_in_place(&mut b, &mut scratch);
-        macro_s += t.elapsed().as_secs_f64();
-        // 4. correction
-        let b = &b;
-        let step_sums = par::map_mut(&mut bundle, |i, (work, mw, out)| {
-            let sub = &ts.subs[i];
-            for (a, &g) in mw.local.iter_mut().zip(mw.global) {
-                *a = b[g];
-            }
-            mp.expand(i, &mw.local, &mut mw.trace);
-            let correction = Correction {
-                z: &mp.homogenized_of(i).z,
-                alpha: &mw.local,
-                macro_trace: &mw.trace,
-            };
-            complete(sub, work, lin, m, out, Some(correction))
-        });
-        step_sums.into_iter().for_each(|s| sums.add(s));
     }
-    (sums, macro_s)
+
+    /// The macro problem.
+    pub fn macro_problem(&self) -> &MacroProblem {
+        &self.macro_problem
+    }
+
+    /// Substructure `i`'s state at the last step of the last run.
+    pub fn end_state(&self, i: usize) -> &SubState {
+        &self.subs[i].work.state
+    }
+
+    /// The work buffers and the macro problem.
+    pub fn into_parts(self) -> (Vec<LinearWork>, MacroProblem) {
+        (
+            self.subs.into_iter().map(|b| b.work).collect(),
+            self.macro_problem,
+        )
+    }
+
+    /// Marches the window of `lin` for all substructures from `starts` (the states at m0 − 1),
+    /// writing s_new into `out`.
+    pub fn run(
+        &mut self,
+        ops: Operators<'_>,
+        starts: &[SubState],
+        lin: &LinearInput<'_>,
+        out: &mut [TraceHistory],
+    ) -> LinearOutcome {
+        let Self {
+            macro_problem: mp,
+            subs,
+            macro_rhs: b,
+            scratch,
+        } = self;
+        for (buf, start) in subs.iter_mut().zip(starts) {
+            buf.work.state.clone_from(start);
+        }
+        let mut outcome = LinearOutcome::default();
+        let (m0, m1) = lin.steps;
+        for m in m0..=m1 {
+            // 1. micro solves and macro forces of F¹
+            par::for_each_mut(subs, |i, buf| {
+                let sub = &ops.subs[i];
+                predict(sub, ops.factor(i), &mut buf.work, lin, m);
+                trial_force(sub, &buf.work, lin.k, &mut buf.trace);
+                buf.macro_local.iter_mut().for_each(|x| *x = 0.0);
+                mp.project(i, &sub.trace_area, &buf.trace, &mut buf.macro_local);
+            });
+            // 2.–3. macro right-hand side and solve
+            let t = Instant::now();
+            b.iter_mut().for_each(|x| *x = 0.0);
+            for (buf, global) in subs.iter().zip(&mp.global) {
+                for (&g, &r) in global.iter().zip(&buf.macro_local) {
+                    b[g] -= r;
+                }
+            }
+            mp.solve_in_place(b, scratch);
+            outcome.macro_s += t.elapsed().as_secs_f64();
+            // 4. correction
+            let (mp, alpha) = (&*mp, &*b);
+            par::for_each_zip_mut(subs, out, |i, buf, out| {
+                let sub = &ops.subs[i];
+                for (a, &g) in buf.macro_local.iter_mut().zip(&mp.global[i]) {
+                    *a = alpha[g];
+                }
+                mp.expand(i, &buf.macro_local, &mut buf.trace);
+                let correction = Correction {
+                    z: &mp.homogenized_of(i).z,
+                    alpha: &buf.macro_local,
+                    macro_trace: &buf.trace,
+                };
+                buf.sums = complete(sub, &mut buf.work, lin, m, out, Some(correction));
+            });
+            subs.iter().for_each(|buf| outcome.sums.add(buf.sums));
+        }
+        outcome
+    }
 }

@@ -1,0 +1,137 @@
+//! The error indicator η of METHOD §6, with the window normalisation of METHOD §7, in one place:
+//!
+//!   η² = Σ_m Σ_j A_j [ (F_j − F̂_j)²/k + k (W_j − Ŵ_j)² ]
+//!        / ( ½ Σ_m Σ_j A_j [ (F_j² + F̂_j²)/k + k (W_j² + Ŵ_j²) ] + D_prev ),
+//!
+//! where s_new = (F, W) is the unrelaxed linear-stage output and ŝ = (F̂, Ŵ) the local stage of
+//! the same iteration, m runs over the current window [m0, m1] and j over every interface dof of
+//! every side. D_prev is the denominator of the finished windows (METHOD §7: "η normalised by
+//! the energy of steps 1..m1"), or, per step (the default, see
+//! [`crate::Settings::per_step_window_norm`]), their mean energy per step times the window
+//! length. [`IndicatorSums::add_dof`] is the one place a term is formed; the linear stage calls it
+//! per trace dof and step; [`WindowNorm`] turns the sums into η.
+
+/// Numerator and denominator sums of η² (METHOD §6) over some dofs and steps.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct IndicatorSums {
+    /// Σ A [(F − F̂)²/k + k (W − Ŵ)²].
+    pub num: f64,
+    /// ½ Σ A [(F² + F̂²)/k + k (W² + Ŵ²)].
+    pub den: f64,
+}
+
+impl IndicatorSums {
+    /// Adds another set of sums.
+    pub fn add(&mut self, o: IndicatorSums) {
+        self.num += o.num;
+        self.den += o.den;
+    }
+
+    /// Adds the terms of one trace dof at one step: area `a`, search direction `k`, the
+    /// linear-stage output (f, w) and the local-stage fields (f̂, ŵ).
+    #[inline]
+    pub fn add_dof(&mut self, a: f64, k: f64, (f, w): (f64, f64), (fhat, what): (f64, f64)) {
+        let (df, dw) = (f - fhat, w - what);
+        self.num += a * (df * df / k + k * dw * dw);
+        self.den += 0.5 * a * ((f * f + fhat * fhat) / k + k * (w * w + what * what));
+    }
+
+    /// η = √(num / den) (0 when the numerator vanishes).
+    pub fn eta(&self) -> f64 {
+        if self.num == 0.0 {
+            0.0
+        } else {
+            (self.num / self.den).sqrt()
+        }
+    }
+}
+
+/// The denominator carried from the finished windows of a solve (METHOD §7).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WindowNorm {
+    /// Scale the finished windows' energy to the current window's length (true) or add it whole
+    /// (false, METHOD §7 as written).
+    per_step: bool,
+    /// Σ of the denominators of the finished windows, steps 1..m0 − 1.
+    finished_den: f64,
+}
+
+impl WindowNorm {
+    /// The norm at the start of a solve (no finished window).
+    pub fn new(per_step: bool) -> Self {
+        Self {
+            per_step,
+            finished_den: 0.0,
+        }
+    }
+
+    /// η of the window [m0, m1] from its sums.
+    pub fn eta(&self, window: IndicatorSums, (m0, m1): (usize, usize)) -> f64 {
+        let carried = if self.per_step && m0 > 1 {
+            self.finished_den * (m1 + 1 - m0) as f64 / (m0 - 1) as f64
+        } else {
+            self.finished_den
+        };
+        IndicatorSums {
+            num: window.num,
+            den: window.den + carried,
+        }
+        .eta()
+    }
+
+    /// Adds the sums of a window that ends (converged or not).
+    pub fn close_window(&mut self, window: IndicatorSums) {
+        self.finished_den += window.den;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn eta_of_a_single_dof_is_the_relative_distance() {
+        // k = 1, A = 1: η² = ((F − F̂)² + (W − Ŵ)²) / (½ (F² + F̂² + W² + Ŵ²))
+        let mut s = IndicatorSums::default();
+        s.add_dof(1.0, 1.0, (1.0, 0.0), (0.0, 0.0));
+        assert_eq!(s.num, 1.0);
+        assert_eq!(s.den, 0.5);
+        assert!((s.eta() - 2f64.sqrt()).abs() < 1e-15);
+        // identical fields: η = 0 whatever the scale
+        let mut z = IndicatorSums::default();
+        z.add_dof(3.0, 7.0, (2.0, -1.0), (2.0, -1.0));
+        assert_eq!(z.eta(), 0.0);
+        assert!(z.den > 0.0);
+    }
+
+    #[test]
+    fn eta_is_dimensionless_in_k_and_area() {
+        // (F, W) and (F̂, Ŵ) on the search direction F = k W: η does not depend on k or A
+        let eta = |k: f64, a: f64| {
+            let mut s = IndicatorSums::default();
+            s.add_dof(a, k, (k * 2.0, 2.0), (k * 1.5, 1.5));
+            s.add_dof(a, k, (-k * 0.5, -0.5), (k * 0.25, 0.25));
+            s.eta()
+        };
+        let base = eta(1.0, 1.0);
+        for (k, a) in [(4.1e7, 1.0), (2.0, 1e-6), (1e-3, 3.0)] {
+            assert!((eta(k, a) - base).abs() < 1e-14 * base, "k {k} a {a}");
+        }
+    }
+
+    #[test]
+    fn window_norm_carries_finished_energy() {
+        let w = IndicatorSums { num: 4.0, den: 1.0 };
+        let mut norm = WindowNorm::new(false);
+        assert!((norm.eta(w, (1, 10)) - 2.0).abs() < 1e-15);
+        norm.close_window(IndicatorSums { num: 0.0, den: 3.0 });
+        // whole: den = 1 + 3
+        assert!((norm.eta(w, (11, 20)) - 1.0).abs() < 1e-15);
+        let mut per_step = WindowNorm::new(true);
+        per_step.close_window(IndicatorSums { num: 0.0, den: 3.0 });
+        // per step: 3 over steps 1..10, scaled to the 5-step window [11, 15]: 1.5; den = 2.5
+        assert!((per_step.eta(w, (11, 15)) - (4.0f64 / 2.5).sqrt()).abs() < 1e-15);
+        // the first window has nothing carried in either mode
+        assert_eq!(WindowNorm::new(true).eta(w, (1, 5)), 2.0);
+    }
+}

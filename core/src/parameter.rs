@@ -1,0 +1,128 @@
+//! The interface parameters a user moves without refactorizing anything (METHOD §5 laws, §8
+//! multiresolution): the friction coefficient and initial gap of every contact interface and the
+//! amplitude of every non-zero prescribed velocity. One type reads a parameter's current value
+//! from a problem and applies a new one, validated; the solver, sweeps, the explorer and the
+//! monolithic reference all go through it.
+
+use crate::error::{LopinError, Result};
+use crate::interface::{DofLaw, Law};
+use crate::problem::Problem;
+
+/// A parameter of the interfaces' laws.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Parameter {
+    /// Friction coefficient f of every contact interface.
+    Friction,
+    /// Initial gap g0 (m) of every contact node.
+    Gap,
+    /// Amplitude V0 (m/s) of every non-zero prescribed velocity.
+    VelocityAmplitude,
+}
+
+impl Parameter {
+    /// Every parameter, in the order tables and panels list them.
+    pub const ALL: [Parameter; 3] = [Self::Friction, Self::Gap, Self::VelocityAmplitude];
+
+    /// Parses `f`/`friction`, `gap`/`g0`, `v0`/`velocity`.
+    pub fn parse(name: &str) -> Result<Self> {
+        match name {
+            "f" | "friction" => Ok(Self::Friction),
+            "gap" | "g0" => Ok(Self::Gap),
+            "v0" | "velocity" => Ok(Self::VelocityAmplitude),
+            _ => Err(LopinError::setting(
+                "param",
+                format!("unknown parameter `{name}` (sweepable: f, gap, v0)"),
+            )),
+        }
+    }
+
+    /// Short name used in files, tables and plot markers.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::Friction => "f",
+            Self::Gap => "gap",
+            Self::VelocityAmplitude => "v0",
+        }
+    }
+
+    /// Unit of the value (empty for the friction coefficient).
+    pub fn unit(&self) -> &'static str {
+        match self {
+            Self::Friction => "",
+            Self::Gap => "m",
+            Self::VelocityAmplitude => "m/s",
+        }
+    }
+
+    /// Checks a value: f and gap finite and non-negative, v0 finite. The error names the
+    /// setting the way the solver's setters always have (`friction`, `gap`, `v0`).
+    pub fn check(&self, value: f64) -> Result<()> {
+        match self {
+            Self::Friction if !(value.is_finite() && value >= 0.0) => Err(LopinError::setting(
+                "friction",
+                format!("must be non-negative, got {value}"),
+            )),
+            Self::Gap if !(value.is_finite() && value >= 0.0) => Err(LopinError::setting(
+                "gap",
+                format!("must be non-negative, got {value}"),
+            )),
+            Self::VelocityAmplitude if !value.is_finite() => Err(LopinError::setting(
+                "v0",
+                format!("must be finite, got {value}"),
+            )),
+            _ => Ok(()),
+        }
+    }
+
+    /// The value the problem holds now: the first contact interface's friction or first gap, the
+    /// largest prescribed velocity amplitude. None when the problem has nothing it applies to.
+    pub fn current(&self, problem: &Problem) -> Option<f64> {
+        let contact = || {
+            problem.interfaces.iter().find_map(|i| match &i.law {
+                Law::Contact(c) => Some(c),
+                _ => None,
+            })
+        };
+        match self {
+            Self::Friction => contact().map(|c| c.friction),
+            Self::Gap => contact().map(|c| c.gap.first().copied().unwrap_or(0.0)),
+            Self::VelocityAmplitude => problem
+                .interfaces
+                .iter()
+                .filter_map(|i| match &i.law {
+                    Law::Boundary(d) => Some(d),
+                    _ => None,
+                })
+                .flatten()
+                .filter_map(|d| match d.law {
+                    DofLaw::Velocity(f) if f.amplitude != 0.0 => Some(f.amplitude.abs()),
+                    _ => None,
+                })
+                .reduce(f64::max),
+        }
+    }
+
+    /// Checks `value` and sets it on every interface it applies to.
+    pub fn apply(&self, problem: &mut Problem, value: f64) -> Result<()> {
+        self.check(value)?;
+        match self {
+            Self::Friction => problem.set_friction(value),
+            Self::Gap => problem.set_gap(value),
+            Self::VelocityAmplitude => problem.set_velocity_amplitude(value),
+        }
+        Ok(())
+    }
+}
+
+impl std::fmt::Display for Parameter {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for Parameter {
+    type Err = LopinError;
+    fn from_str(s: &str) -> Result<Self> {
+        Self::parse(s)
+    }
+}

@@ -1,0 +1,408 @@
+//! One LATIN iteration (METHOD §6) on the current window (METHOD §7), owned by the solve in
+//! progress [`SolveRun`]: everything the iteration carries from one iteration to the next (s, ŝ,
+//! the substructures' kinematic state at the window start, the running contact state, the window
+//! and the η norm), so that a caller without threads (the web explorer) can advance a solve one
+//! iteration at a time between frames. [`Solver::step`] calls the stages, which are the methods
+//! of [`SolveRun`], in METHOD order:
+//!
+//! 1. [`SolveRun::local_stage`]: E+ (METHOD §5) on every interface, in parallel, contact
+//!    sequential in time;
+//! 2. [`SolveRun::linear_stage`]: E− over the window, single-scale (METHOD §4, every
+//!    substructure in parallel, skipping unchanged ones) or two-scale (METHOD §9, all
+//!    substructures in lock-step with one macro solve per step), as the solver's
+//!    [`super::linear::LinearStage`] is;
+//! 3. [`SolveRun::indicator`]: η from the unrelaxed linear-stage output and ŝ (METHOD §6), with
+//!    the window normalisation of METHOD §7 ([`crate::indicator`]);
+//! 4. [`SolveRun::relaxation`]: s ← μ s_new + (1 − μ) s, μ = 1 at a window's first iteration
+//!    (METHOD §6);
+//! 5. [`SolveRun::end_of_window`]: η < tol moves to the next window (held start, see
+//!    [`super::Settings::hold_window_start`]); a non-finite η or the iteration limit ends the
+//!    solve unconverged.
+
+use super::linear::{LinearOutcome, LinearStage, Operators};
+use super::{Control, Iterate, Settings, Solution, Solver};
+use crate::counters::{Instant, IterationRecord};
+use crate::error::Result;
+use crate::indicator::{IndicatorSums, WindowNorm};
+use crate::interface::Law;
+use crate::linear_stage::{LinearInput, SubState};
+use crate::local_stage::{local_stage, ContactRunning, LocalInput};
+use crate::par;
+use crate::problem::Problem;
+use crate::state::{InterfaceState, TraceHistory};
+
+/// A solve between two iterations. Made by [`Solver::begin`], advanced by [`Solver::step`],
+/// turned into a [`Solution`] by [`Solver::finish`]; only meaningful with the solver (and the
+/// problem parameters) it was begun with.
+#[derive(Debug, Clone)]
+pub struct SolveRun {
+    /// Whether it started from a given state (warm).
+    warm: bool,
+    /// s = (F, W), relaxed.
+    s: InterfaceState,
+    /// The linear stage's output before relaxation.
+    s_new: InterfaceState,
+    /// ŝ of every interface side.
+    hats: Vec<Vec<TraceHistory>>,
+    /// Kinematic state of every substructure at the start of the current window.
+    sub_states: Vec<SubState>,
+    /// Running contact state at the start of the current window.
+    contact_start: Vec<Option<ContactRunning>>,
+    /// Running contact state at the end of the window after the last local stage.
+    contact_end: Vec<Option<ContactRunning>>,
+    /// Window length, steps.
+    window: usize,
+    /// First and last step of the current window.
+    m0: usize,
+    m1: usize,
+    /// Iterations in the current window.
+    it: usize,
+    /// Iterations in all.
+    iterations: usize,
+    /// η sums of the current window after the last linear stage.
+    window_sums: IndicatorSums,
+    /// The η denominator carried from the finished windows.
+    norm: WindowNorm,
+    /// Last η.
+    eta: f64,
+    eta_history: Vec<f64>,
+    /// Whether every finished window converged.
+    converged: bool,
+    /// Whether an observer stopped it.
+    cancelled: bool,
+    /// Whether it has ended (converged, failed or stopped).
+    done: bool,
+}
+
+impl SolveRun {
+    /// Whether the solve has ended: [`Solver::step`] does nothing more.
+    pub fn is_done(&self) -> bool {
+        self.done
+    }
+
+    /// Whether it started from a given interface state.
+    pub fn is_warm(&self) -> bool {
+        self.warm
+    }
+
+    /// Iterations so far.
+    pub fn iterations(&self) -> usize {
+        self.iterations
+    }
+
+    /// η of the last iteration (∞ before the first).
+    pub fn eta(&self) -> f64 {
+        self.eta
+    }
+
+    /// Ends the solve now, as not converged and cancelled (a newer request replaces it; its
+    /// state is still the best start for the next one).
+    pub fn cancel(&mut self) {
+        if !self.done {
+            self.cancelled = true;
+            self.converged = false;
+            self.done = true;
+        }
+    }
+}
+
+impl Solver {
+    /// Starts a solve: `start` None for a cold start, or a previous state (warm, METHOD §8),
+    /// whose m = 0 entries are replaced by the given initial state.
+    pub fn begin(&mut self, start: Option<&InterfaceState>) -> Result<SolveRun> {
+        let p = &self.problem;
+        let n = p.time.steps;
+        self.counters.reset_solve();
+        let initial = InterfaceState::cold(p);
+        let s = match start {
+            Some(st) => {
+                st.check_fits(p)?;
+                let mut s = st.clone();
+                // m = 0 is the given initial state, never iterated (METHOD §1)
+                for (h, h0) in s.subs.iter_mut().zip(&initial.subs) {
+                    let r = h.at(0);
+                    h.f[r.clone()].copy_from_slice(&h0.f[r.clone()]);
+                    h.w[r.clone()].copy_from_slice(&h0.w[r]);
+                }
+                s
+            }
+            None => initial,
+        };
+        let hats: Vec<Vec<TraceHistory>> = p
+            .interfaces
+            .iter()
+            .map(|i| {
+                i.sides
+                    .iter()
+                    .map(|side| {
+                        let mut h = TraceHistory::zeros(i.len, n);
+                        let src = &s.subs[side.sub];
+                        let r = src.at(0);
+                        h.f[..i.len].copy_from_slice(&src.f[r.start + side.offset..][..i.len]);
+                        h.w[..i.len].copy_from_slice(&src.w[r.start + side.offset..][..i.len]);
+                        h
+                    })
+                    .collect()
+            })
+            .collect();
+        let sub_states = p
+            .subs
+            .iter()
+            .map(|s| SubState::initial(s, p.time.dt))
+            .collect();
+        let contact_start: Vec<Option<ContactRunning>> = p
+            .interfaces
+            .iter()
+            .map(|i| match &i.law {
+                Law::Contact(c) => Some(ContactRunning::initial(i, c, &s)),
+                _ => None,
+            })
+            .collect();
+        let window = self.settings.window.unwrap_or(n).clamp(1, n);
+        Ok(SolveRun {
+            warm: start.is_some(),
+            s_new: s.clone(),
+            s,
+            hats,
+            sub_states,
+            contact_end: vec![None; contact_start.len()],
+            contact_start,
+            window,
+            m0: 1,
+            m1: window.min(n),
+            it: 0,
+            iterations: 0,
+            window_sums: IndicatorSums::default(),
+            norm: WindowNorm::new(self.settings.per_step_window_norm),
+            eta: f64::INFINITY,
+            eta_history: Vec::new(),
+            converged: true,
+            cancelled: false,
+            done: false,
+        })
+    }
+
+    /// One LATIN iteration of `run` (its five stages, in METHOD order), with `observer` shown
+    /// the iterate before the end-of-window test (it may stop the solve). Returns whether the
+    /// solve has ended.
+    pub fn step(
+        &mut self,
+        run: &mut SolveRun,
+        observer: &mut dyn FnMut(&Iterate<'_>) -> Control,
+    ) -> bool {
+        if run.done {
+            return true;
+        }
+        let set = self.settings;
+        run.it += 1;
+        run.iterations += 1;
+        let t_local = Instant::now();
+        run.local_stage(&self.problem, set.k);
+        let local_s = t_local.elapsed().as_secs_f64();
+        let t_linear = Instant::now();
+        let ops = Operators {
+            subs: &self.problem.subs,
+            classes: &self.classes,
+            factors: &self.factors,
+        };
+        let outcome = run.linear_stage(&self.problem, &mut self.linear, ops, &set);
+        run.indicator(outcome.sums);
+        run.relaxation(set.mu);
+        let linear_s = t_linear.elapsed().as_secs_f64();
+        let record = IterationRecord {
+            iteration: run.iterations,
+            window_start: run.m0,
+            window_end: run.m1,
+            eta: run.eta,
+            local_s,
+            linear_s,
+            macro_s: outcome.macro_s,
+            skipped: outcome.skipped,
+        };
+        self.counters.iterations.push(record);
+        let iterate = Iterate {
+            record: &record,
+            solver: self,
+            state: &run.s,
+            hats: &run.hats,
+            eta_history: &run.eta_history,
+        };
+        if observer(&iterate) == Control::Stop {
+            run.cancel();
+            return true;
+        }
+        run.end_of_window(&self.linear, &set)
+    }
+
+    /// The solution a run reached (converged, or the newest iterate of an unconverged or
+    /// cancelled one).
+    pub fn finish(&self, run: SolveRun) -> Solution {
+        Solution {
+            state: run.s,
+            hats: run.hats,
+            iterations: run.iterations,
+            eta: run.eta,
+            eta_history: run.eta_history,
+            converged: run.converged && run.done && !run.cancelled,
+            cancelled: run.cancelled,
+        }
+    }
+}
+
+impl SolveRun {
+    /// Stage 1, local stage (E+, METHOD §5): ŝ of every interface side over the window from s,
+    /// in parallel over interfaces; contact laws march in time from the window's start state.
+    pub(crate) fn local_stage(&mut self, problem: &Problem, k: f64) {
+        let input = LocalInput {
+            s: &self.s,
+            k,
+            time: problem.time,
+            steps: (self.m0, self.m1),
+        };
+        let starts = &self.contact_start;
+        let interfaces = &problem.interfaces;
+        self.contact_end = par::map_mut(&mut self.hats, |i, hat| {
+            local_stage(&interfaces[i], &input, hat, starts[i].as_ref())
+        });
+    }
+
+    /// Stage 2, linear stage (E−, METHOD §4 or §9 as `linear` is): s_new over the window from ŝ,
+    /// every substructure starting from its state at the window start. Skipping unchanged
+    /// substructures is allowed when the window is the whole interval.
+    pub(crate) fn linear_stage(
+        &mut self,
+        problem: &Problem,
+        linear: &mut LinearStage,
+        ops: Operators<'_>,
+        settings: &Settings,
+    ) -> LinearOutcome {
+        let (m0, m1) = (self.m0, self.m1);
+        let whole = settings.skip_unchanged && m0 == 1 && m1 == problem.time.steps;
+        let lin = LinearInput {
+            interfaces: &problem.interfaces,
+            hats: &self.hats,
+            k: settings.k,
+            dt: problem.time.dt,
+            steps: (m0, m1),
+        };
+        let outcome = linear.run(ops, &self.sub_states, &lin, whole, &mut self.s_new.subs);
+        self.window_sums = outcome.sums;
+        outcome
+    }
+
+    /// Stage 3, error indicator (METHOD §6–7): η of the window from its sums and the norm carried
+    /// from the finished windows.
+    pub(crate) fn indicator(&mut self, window: IndicatorSums) {
+        self.eta = self.norm.eta(window, (self.m0, self.m1));
+        self.eta_history.push(self.eta);
+    }
+
+    /// Stage 4, relaxation (METHOD §6): s ← μ s_new + (1 − μ) s on the window's steps, with
+    /// μ = 1 at the window's first iteration.
+    pub(crate) fn relaxation(&mut self, mu: f64) {
+        let mu = if self.it == 1 { 1.0 } else { mu };
+        relax(&mut self.s, &self.s_new, mu, (self.m0, self.m1));
+    }
+
+    /// Stage 5, end of window (METHOD §7): unless η < tol, or η is not finite, or the window's
+    /// iteration limit is reached, the window goes on. Otherwise its end states (substructures
+    /// from the last linear stage, contacts from the last local stage) start the next window, a
+    /// cold next window starts from the last converged step held constant, and an unconverged
+    /// window ends the solve. Returns whether the solve has ended.
+    pub(crate) fn end_of_window(&mut self, linear: &LinearStage, settings: &Settings) -> bool {
+        let window_converged = self.eta < settings.tol;
+        if !window_converged && self.eta.is_finite() && self.it < settings.max_iter {
+            return false;
+        }
+        for (i, st) in self.sub_states.iter_mut().enumerate() {
+            st.clone_from(linear.end_state(i));
+        }
+        for (start, end) in self.contact_start.iter_mut().zip(&mut self.contact_end) {
+            if end.is_some() {
+                *start = end.take();
+            }
+        }
+        self.norm.close_window(self.window_sums);
+        if !window_converged {
+            self.converged = false;
+            self.done = true;
+            return true;
+        }
+        let n = self.s.steps;
+        self.m0 = self.m1 + 1;
+        self.m1 = (self.m0 + self.window - 1).min(n);
+        self.it = 0;
+        if self.m0 > n {
+            self.done = true;
+            return true;
+        }
+        if settings.hold_window_start && !self.warm {
+            // a cold window starts from the last converged step, held constant
+            // (instead of F = W = 0): the interface state changes little over a window
+            for h in &mut self.s.subs {
+                let prev = h.at(self.m0 - 1);
+                for m in self.m0..=self.m1 {
+                    let r = h.at(m);
+                    h.f.copy_within(prev.clone(), r.start);
+                    h.w.copy_within(prev.clone(), r.start);
+                }
+            }
+        }
+        false
+    }
+}
+
+/// s ← μ s_new + (1 − μ) s on steps m0..=m1.
+fn relax(s: &mut InterfaceState, s_new: &InterfaceState, mu: f64, (m0, m1): (usize, usize)) {
+    for (h, hn) in s.subs.iter_mut().zip(&s_new.subs) {
+        let r = m0 * h.len..(m1 + 1) * h.len;
+        for (x, y) in h.f[r.clone()].iter_mut().zip(&hn.f[r.clone()]) {
+            *x = mu * y + (1.0 - mu) * *x;
+        }
+        for (x, y) in h.w[r.clone()].iter_mut().zip(&hn.w[r]) {
+            *x = mu * y + (1.0 - mu) * *x;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn relaxation_mixes_the_window_and_leaves_other_steps() {
+        // one trace of 2 entries over steps 0..=4; window [2, 3]
+        let state = |f: f64, w: f64| InterfaceState {
+            steps: 4,
+            subs: vec![TraceHistory {
+                len: 2,
+                f: vec![f; 10],
+                w: vec![w; 10],
+            }],
+        };
+        let mut s = state(1.0, -2.0);
+        let s_new = state(3.0, 4.0);
+        relax(&mut s, &s_new, 0.8, (2, 3));
+        let h = &s.subs[0];
+        for m in 0..=4 {
+            let r = h.at(m);
+            let (f, w) = if (2..=3).contains(&m) {
+                (0.8 * 3.0 + 0.2 * 1.0, 0.8 * 4.0 + 0.2 * -2.0)
+            } else {
+                (1.0, -2.0)
+            };
+            assert!(
+                h.f[r.clone()].iter().all(|&x| (x - f).abs() < 1e-15),
+                "F at m = {m}"
+            );
+            assert!(
+                h.w[r].iter().all(|&x| (x - w).abs() < 1e-15),
+                "W at m = {m}"
+            );
+        }
+        // μ = 1 takes the new fields
+        relax(&mut s, &s_new, 1.0, (1, 4));
+        assert_eq!(s.subs[0].f[2..], s_new.subs[0].f[2..]);
+        assert_eq!(s.subs[0].w[2..], s_new.subs[0].w[2..]);
+    }
+}

@@ -1,0 +1,173 @@
+//! The linear stage (E−) of one LATIN iteration over the current time window, as the solver holds
+//! it: one of two variants, chosen by [`crate::Settings::two_scale`] and switched only by
+//! [`crate::Solver::set_settings`]:
+//!
+//! - [`SingleScale`] (METHOD §4): every substructure marches independently, in parallel, with
+//!   its [`SkipCache`] over the whole interval;
+//! - [`TwoScale`] (METHOD §9): all substructures in lock-step with one macro solve per step.
+//!
+//! Both hold one [`LinearWork`] per substructure, allocated once with the factorizations, and
+//! return the window's η sums (METHOD §6) with what was skipped and the macro time.
+
+use super::skip_cache::SkipCache;
+use super::two_scale::TwoScale;
+use crate::factor::CholeskyFactor;
+use crate::indicator::IndicatorSums;
+use crate::linear_stage::{linear_stage, LinearInput, LinearWork, SubState};
+use crate::macro_problem::MacroProblem;
+use crate::operator_classes::Classes;
+use crate::par;
+use crate::state::TraceHistory;
+use crate::substructure::Substructure;
+
+/// The substructures and their factorized operators S, which the linear stage reads.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Operators<'a> {
+    /// Substructures.
+    pub subs: &'a [Substructure],
+    /// Which factorization each substructure uses.
+    pub classes: &'a Classes,
+    /// One factorization of S per class.
+    pub factors: &'a [CholeskyFactor],
+}
+
+impl Operators<'_> {
+    /// The factorization of substructure `i`'s S.
+    pub fn factor(&self, i: usize) -> &CholeskyFactor {
+        &self.factors[self.classes.of[i]]
+    }
+}
+
+/// What one linear stage over a window produced besides s_new.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct LinearOutcome {
+    /// η sums of the window, added over the substructures in index order.
+    pub sums: IndicatorSums,
+    /// Substructures whose march was skipped (inputs unchanged).
+    pub skipped: usize,
+    /// Seconds in the macro right-hand sides and solves (two-scale only).
+    pub macro_s: f64,
+}
+
+/// The linear stage of a solver.
+#[derive(Debug)]
+pub(crate) enum LinearStage {
+    /// METHOD §4.
+    SingleScale(SingleScale),
+    /// METHOD §9 (boxed: it holds the macro problem).
+    TwoScale(Box<TwoScale>),
+}
+
+impl LinearStage {
+    /// Marches the window `lin.steps` of every substructure from `starts` (the states at
+    /// m0 − 1), writing s_new into `out`. `whole`: the window is the whole interval and skipping
+    /// is allowed.
+    pub fn run(
+        &mut self,
+        ops: Operators<'_>,
+        starts: &[SubState],
+        lin: &LinearInput<'_>,
+        whole: bool,
+        out: &mut [TraceHistory],
+    ) -> LinearOutcome {
+        match self {
+            Self::SingleScale(s) => s.run(ops, starts, lin, whole, out),
+            Self::TwoScale(t) => t.run(ops, starts, lin, out),
+        }
+    }
+
+    /// The state of every substructure at the last step of the last run.
+    pub fn end_state(&self, i: usize) -> &SubState {
+        match self {
+            Self::SingleScale(s) => &s.subs[i].work.state,
+            Self::TwoScale(t) => t.end_state(i),
+        }
+    }
+
+    /// The macro problem of the two-scale variant.
+    pub fn macro_problem(&self) -> Option<&MacroProblem> {
+        match self {
+            Self::SingleScale(_) => None,
+            Self::TwoScale(t) => Some(t.macro_problem()),
+        }
+    }
+
+    /// The work buffers, and the macro problem of the two-scale variant (to switch variant).
+    pub fn into_parts(self) -> (Vec<LinearWork>, Option<MacroProblem>) {
+        match self {
+            Self::SingleScale(s) => (s.subs.into_iter().map(|b| b.work).collect(), None),
+            Self::TwoScale(t) => {
+                let (works, mp) = (*t).into_parts();
+                (works, Some(mp))
+            }
+        }
+    }
+}
+
+/// One substructure's buffers in the single-scale stage.
+#[derive(Debug)]
+struct SingleScaleSub {
+    work: LinearWork,
+    skip: SkipCache,
+    /// η sums of its last march (or replay).
+    sums: IndicatorSums,
+    /// Whether its last march was skipped.
+    skipped: bool,
+}
+
+/// The single-scale linear stage (METHOD §4): every substructure independent, in parallel.
+#[derive(Debug)]
+pub(crate) struct SingleScale {
+    subs: Vec<SingleScaleSub>,
+}
+
+impl SingleScale {
+    /// The stage over these buffers, with an empty skip cache.
+    pub fn new(works: Vec<LinearWork>) -> Self {
+        Self {
+            subs: works
+                .into_iter()
+                .map(|work| SingleScaleSub {
+                    work,
+                    skip: SkipCache::default(),
+                    sums: IndicatorSums::default(),
+                    skipped: false,
+                })
+                .collect(),
+        }
+    }
+
+    fn run(
+        &mut self,
+        ops: Operators<'_>,
+        starts: &[SubState],
+        lin: &LinearInput<'_>,
+        whole: bool,
+        out: &mut [TraceHistory],
+    ) -> LinearOutcome {
+        par::for_each_zip_mut(&mut self.subs, out, |i, b, out| {
+            let sub = &ops.subs[i];
+            if whole {
+                if let Some(sums) = b.skip.replay(sub, lin.hats, &mut b.work, out) {
+                    b.sums = sums;
+                    b.skipped = true;
+                    return;
+                }
+            }
+            b.work.state.clone_from(&starts[i]);
+            b.sums = linear_stage(sub, ops.factor(i), &mut b.work, lin, out, None);
+            b.skipped = false;
+            if whole {
+                b.skip.store(sub, lin.hats, &b.work, out, b.sums);
+            } else {
+                b.skip.clear();
+            }
+        });
+        let mut outcome = LinearOutcome::default();
+        for b in &self.subs {
+            outcome.sums.add(b.sums);
+            outcome.skipped += usize::from(b.skipped);
+        }
+        outcome
+    }
+}
