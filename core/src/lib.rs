@@ -3,47 +3,67 @@
 //! with Coulomb friction, boundary conditions). The method is specified in METHOD.md; each module
 //! names the sections it implements.
 //!
+//! The LATIN iteration (solver, stages, state, macro problem, post-processing, sweeps) sits behind
+//! the default `latin` feature; without it the crate holds only the problem description (meshes,
+//! element matrices, interfaces, scenes, factorization), which is all the monolithic reference of
+//! `lopin-reference` may use.
+//!
 //! ```no_run
-//! use lopin_core::{scene, Settings, Solver};
+//! use lopin_core::{scene, Parameter, Settings, Solver};
 //! let spec = scene::load("two-blocks")?;
 //! let problem = scene::build::build(&spec, "two-blocks")?;
 //! let settings = Settings::for_problem(&problem, &spec.solver);
 //! let mut solver = Solver::new(problem, settings)?;
 //! let cold = solver.solve(None)?;
-//! solver.set_friction(0.5)?;
+//! solver.set_parameter(Parameter::Friction, 0.5)?;
 //! let warm = solver.solve(Some(&cold.state))?; // METHOD §8 warm start
 //! # Ok::<(), lopin_core::LopinError>(())
 //! ```
 
-pub mod compare;
 pub mod counters;
 pub mod detect;
 pub mod error;
+#[cfg(feature = "latin")]
 pub mod estimate;
 pub mod factor;
 pub mod hex8;
+pub mod histories;
+#[cfg(feature = "latin")]
+pub mod indicator;
 pub mod interface;
+#[cfg(feature = "latin")]
 pub mod linear_stage;
+#[cfg(feature = "latin")]
 pub mod local_stage;
+#[cfg(feature = "latin")]
 pub mod macro_basis;
+#[cfg(feature = "latin")]
 pub mod macro_problem;
 pub mod material;
 pub mod mesh;
-pub mod monolithic;
+#[cfg(feature = "latin")]
 pub mod operator_classes;
+#[cfg(feature = "latin")]
 mod par;
+pub mod parameter;
+#[cfg(feature = "latin")]
 pub mod post;
 pub mod problem;
 pub mod scene;
+#[cfg(feature = "latin")]
 pub mod solver;
 pub mod sparse;
+#[cfg(feature = "latin")]
 pub mod state;
-pub mod stress;
 pub mod substructure;
+#[cfg(feature = "latin")]
 pub mod sweep;
 pub mod time_function;
 
 pub use error::{LopinError, Result};
+pub use parameter::Parameter;
 pub use problem::Problem;
+#[cfg(feature = "latin")]
 pub use solver::{Control, Iterate, Settings, Solution, SolveRun, Solver};
+#[cfg(feature = "latin")]
 pub use state::InterfaceState;

@@ -16,7 +16,7 @@ fn refined(name: &str) -> scene::SceneSpec {
 fn bar_stress_and_velocity_plateaus_match_dalembert() {
     let (solver, sol) = solve(&refined("bar"), |s| s.tol = 1e-6);
     assert!(sol.converged);
-    let steel = solver.problem().materials[0].1;
+    let steel = solver.problem().materials[0].material;
     let exact = -steel.density * steel.bar_speed() * 10.0;
     // t = 15 µs: front at c t = 0.078 m, ramp tail 0.0104 m behind it
     let (sigma, v) = plateau(&solver, &sol, 150, 0.005, 0.06);
@@ -34,8 +34,8 @@ fn bar_bimaterial_transmission_matches_impedance_ratio() {
     assert!(sol.converged);
     let m = &solver.problem().materials;
     let (z1, z2) = (
-        m[0].1.density * m[0].1.bar_speed(),
-        m[1].1.density * m[1].1.bar_speed(),
+        m[0].material.density * m[0].material.bar_speed(),
+        m[1].material.density * m[1].material.bar_speed(),
     );
     let incident_exact = -z1 * 10.0;
     // incident: t = 8 µs (front at 0.0415 m); transmitted: t = 15 µs (front at 0.077 m)

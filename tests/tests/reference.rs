@@ -2,10 +2,10 @@
 //! step-averaged interface forces agree to ≤ 1e-6 (relative to their max magnitude) on
 //! `two-blocks` for f = 0, 0.3, 0.5, on `gap-impact` and on `two-blocks --split 2`.
 
-use lopin_core::compare::compare;
-use lopin_core::monolithic::Monolithic;
 use lopin_core::scene::{self, SceneSpec};
-use lopin_core::{Settings, Solver};
+use lopin_core::{Parameter, Settings, Solver};
+use lopin_reference::compare::compare;
+use lopin_reference::monolithic::Monolithic;
 
 const TOL: f64 = 1e-9;
 const BOUND: f64 = 1e-6;
@@ -20,8 +20,12 @@ fn latin_vs_reference(spec: &SceneSpec, frictions: &[Option<f64>]) {
     let mut previous = None;
     for f in frictions {
         if let Some(f) = *f {
-            solver.set_friction(f).expect("friction");
-            reference.set_friction(f);
+            solver
+                .set_parameter(Parameter::Friction, f)
+                .expect("friction");
+            reference
+                .set_parameter(Parameter::Friction, f)
+                .expect("friction");
         }
         let sol = solver.solve(previous.as_ref()).expect("latin");
         assert!(sol.converged, "{}: LATIN did not reach {TOL}", spec.name);

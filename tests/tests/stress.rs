@@ -3,7 +3,7 @@
 //! energy within the bounds of the module doc, and no interpenetration beyond the law's bound.
 //! `lopin stress` runs the longer set.
 
-use lopin_core::stress;
+use lopin_reference::stress;
 
 #[test]
 fn every_quick_case_passes() {

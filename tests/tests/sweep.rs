@@ -4,8 +4,8 @@
 //! compares nodal velocities in the max norm over space-time; C ≈ 10 on `two-blocks`, so the
 //! bound is 30 · tol relative to max |v| (measured up to 18 · tol).
 
-use lopin_core::sweep::{Parameter, Predictor};
-use lopin_core::{scene, Settings, Solver};
+use lopin_core::sweep::Predictor;
+use lopin_core::{scene, Parameter, Settings, Solver};
 use lopin_tests::{rel_diff, velocity_history};
 
 fn warm_vs_cold(tol: f64) -> Vec<(f64, usize, usize, f64)> {
@@ -15,11 +15,11 @@ fn warm_vs_cold(tol: f64) -> Vec<(f64, usize, usize, f64)> {
     settings.tol = tol;
     let mut solver = Solver::new(problem, settings).expect("factorizes");
     // the first value of the study, solved cold, seeds the warm chain
-    Parameter::Friction.apply(&mut solver, 0.0).expect("f");
+    solver.set_parameter(Parameter::Friction, 0.0).expect("f");
     let mut history = vec![(0.0, solver.solve(None).expect("cold").state)];
     let mut out = Vec::new();
     for f in [0.1, 0.2, 0.3] {
-        Parameter::Friction.apply(&mut solver, f).expect("f");
+        solver.set_parameter(Parameter::Friction, f).expect("f");
         let refs: Vec<(f64, &lopin_core::InterfaceState)> =
             history.iter().map(|(v, s)| (*v, s)).collect();
         let start = Predictor::Previous.predict(&refs, f);
@@ -58,13 +58,13 @@ fn velocity_amplitude_sweep_is_homogeneous() {
     let mut settings = Settings::for_problem(&problem, &spec.solver);
     settings.tol = 1e-7;
     let mut solver = Solver::new(problem, settings).expect("factorizes");
-    Parameter::VelocityAmplitude
-        .apply(&mut solver, 5.0)
+    solver
+        .set_parameter(Parameter::VelocityAmplitude, 5.0)
         .expect("v0");
     let a = solver.solve(None).expect("solve");
     let va = velocity_history(&solver, &a);
-    Parameter::VelocityAmplitude
-        .apply(&mut solver, 10.0)
+    solver
+        .set_parameter(Parameter::VelocityAmplitude, 10.0)
         .expect("v0");
     let b = solver.solve(Some(&a.state)).expect("solve");
     let vb: Vec<Vec<Vec<f64>>> = velocity_history(&solver, &b)

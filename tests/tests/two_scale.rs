@@ -3,11 +3,11 @@
 //! interface after every linear stage (perfect and contact interfaces), and identical
 //! substructures share one factorization and one homogenized operator.
 
-use lopin_core::compare::compare;
 use lopin_core::interface::Law;
-use lopin_core::monolithic::Monolithic;
 use lopin_core::scene::{self, SceneSpec};
 use lopin_core::{Control, InterfaceState, Settings, Solver};
+use lopin_reference::compare::compare;
+use lopin_reference::monolithic::Monolithic;
 use lopin_tests::{rel_diff, velocity_history};
 
 /// Largest |Êᵀ A F₁ + Êᵀ A F₂| over internal interfaces and steps 1..N, relative to the largest
@@ -48,7 +48,7 @@ fn settings(spec: &SceneSpec, tol: f64, two_scale: bool) -> (lopin_core::Problem
 /// scene at tolerance `tol`.
 struct Three {
     reference: Monolithic,
-    mono: lopin_core::monolithic::MonoSolution,
+    mono: lopin_reference::monolithic::MonoSolution,
     single: Solver,
     single_sol: lopin_core::Solution,
     two: Solver,

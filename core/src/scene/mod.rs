@@ -31,17 +31,18 @@ pub fn to_toml(spec: &SceneSpec) -> String {
 
 /// How errors name a scene given to [`load`]: `scene NAME` for a built-in, else the path.
 pub fn source_label(name_or_path: &str) -> String {
-    if registry::builtin(name_or_path).is_some() {
+    if registry::contains(name_or_path) {
         format!("scene {name_or_path}")
     } else {
         name_or_path.to_string()
     }
 }
 
-/// Reads a scene: a registry name, or a path to a TOML file (not on wasm32, which has no files).
+/// Reads a scene: a registry name (built-in or test scene), or a path to a TOML file (not on
+/// wasm32, which has no files).
 pub fn load(name_or_path: &str) -> Result<SceneSpec> {
-    if let Some(spec) = registry::builtin(name_or_path) {
-        return Ok(spec);
+    if let Some(spec) = registry::parse(name_or_path) {
+        return spec;
     }
     #[cfg(not(target_arch = "wasm32"))]
     {

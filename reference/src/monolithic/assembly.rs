@@ -1,0 +1,236 @@
+//! The assembled structure: global lumped mass and stiffness (element matrices of every
+//! substructure summed on the merged nodes), the strongly imposed velocities, the prescribed
+//! tractions as nodal loads A·F_d (METHOD §1, §5 boundary laws), and the contact node pairs with
+//! their local frames (METHOD §5: normal n outward of side 1, tangent plane).
+
+use faer::sparse::Triplet;
+
+use super::numbering::Numbering;
+use lopin_core::error::{LopinError, Result};
+use lopin_core::interface::{DofLaw, Law};
+use lopin_core::mesh::{cross, dot, norm, Vec3};
+use lopin_core::problem::Problem;
+use lopin_core::sparse::SymmetricMatrix;
+use lopin_core::time_function::TimeFunction;
+
+/// One copy of a contact pair: the interface node it comes from and its lumped area.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PairCopy {
+    /// Interface index.
+    pub interface: usize,
+    /// Node index within that interface.
+    pub node: usize,
+    /// Lumped area A of that interface node.
+    pub area: f64,
+}
+
+/// A pair of global nodes in unilateral contact with Coulomb friction. Copies from several
+/// interfaces that join the same two global nodes with the same law are one pair (their areas
+/// add); the nodal force is shared among them in proportion to area.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ContactPair {
+    /// Global node of side 1.
+    pub a: usize,
+    /// Global node of side 2.
+    pub b: usize,
+    /// Local frame: normal n (side 1 → side 2), then two unit tangents.
+    pub frame: [Vec3; 3],
+    /// Friction coefficient f.
+    pub friction: f64,
+    /// Initial gap g₀.
+    pub gap: f64,
+    /// The interface nodes this pair stands for.
+    pub copies: Vec<PairCopy>,
+}
+
+impl ContactPair {
+    /// Total lumped area.
+    pub fn area(&self) -> f64 {
+        self.copies.iter().map(|c| c.area).sum()
+    }
+}
+
+/// The assembled, undecomposed discrete problem.
+#[derive(Debug, Clone)]
+pub struct Assembled {
+    /// Node numbering.
+    pub numbering: Numbering,
+    /// Global lumped mass per dof.
+    pub mass: Vec<f64>,
+    /// Global stiffness.
+    pub stiffness: SymmetricMatrix,
+    /// Initial velocity v₀.
+    pub v0: Vec<f64>,
+    /// Prescribed velocity per global dof (None: free).
+    pub prescribed: Vec<Option<TimeFunction>>,
+    /// Prescribed tractions: (global dof, area, F_d(t)).
+    pub tractions: Vec<(usize, f64, TimeFunction)>,
+    /// Contact pairs.
+    pub pairs: Vec<ContactPair>,
+    /// Index among the free dofs of each global dof (usize::MAX if prescribed).
+    pub free_index: Vec<usize>,
+    /// Number of free dofs.
+    pub free: usize,
+}
+
+impl Assembled {
+    /// Assembles a problem.
+    pub fn new(problem: &Problem) -> Result<Self> {
+        let numbering = Numbering::new(problem)?;
+        let n = numbering.dofs();
+        let mut mass = vec![0.0; n];
+        let mut triplets = Vec::new();
+        for (s, sub) in problem.subs.iter().enumerate() {
+            for (d, &m) in sub.mass.iter().enumerate() {
+                mass[numbering.dof(s, d)] += m;
+            }
+            let k = sub.stiffness.as_faer();
+            let (cp, ri, val) = (k.symbolic().col_ptr(), k.symbolic().row_idx(), k.val());
+            for j in 0..sub.ndof() {
+                let gj = numbering.dof(s, j);
+                for p in cp[j]..cp[j + 1] {
+                    triplets.push(Triplet::new(numbering.dof(s, ri[p]), gj, val[p]));
+                }
+            }
+        }
+        let stiffness = SymmetricMatrix::from_triplets(n, &triplets);
+        let v0 = numbering.initial_velocity(problem);
+
+        let mut prescribed: Vec<Option<TimeFunction>> = vec![None; n];
+        let mut tractions = Vec::new();
+        let mut pairs: Vec<ContactPair> = Vec::new();
+        for (k, iface) in problem.interfaces.iter().enumerate() {
+            match &iface.law {
+                Law::Perfect => {}
+                Law::Boundary(dofs) => {
+                    let side = &iface.sides[0];
+                    for (j, d) in dofs.iter().enumerate() {
+                        let g = 3 * numbering.node_of[side.sub][side.nodes[j]] + d.component;
+                        match d.law {
+                            DofLaw::Velocity(f) => match prescribed[g] {
+                                Some(old) if old != f => {
+                                    return Err(LopinError::Reference(format!(
+                                        "interface `{}` prescribes a velocity on a dof that another boundary prescribes differently (node at {:?})",
+                                        iface.name,
+                                        problem.subs[side.sub].mesh.nodes[side.nodes[j]]
+                                    )));
+                                }
+                                _ => prescribed[g] = Some(f),
+                            },
+                            DofLaw::Traction(f) => tractions.push((g, iface.area[j], f)),
+                        }
+                    }
+                }
+                Law::Contact(c) => {
+                    let (s1, s2) = (&iface.sides[0], &iface.sides[1]);
+                    for i in 0..iface.node_count() {
+                        let a = numbering.node_of[s1.sub][s1.nodes[i]];
+                        let b = numbering.node_of[s2.sub][s2.nodes[i]];
+                        let copy = PairCopy {
+                            interface: k,
+                            node: i,
+                            area: iface.area[3 * i],
+                        };
+                        let nrm = c.normal[i];
+                        let same = pairs.iter_mut().find(|p| {
+                            p.a == a
+                                && p.b == b
+                                && p.friction == c.friction
+                                && p.gap == c.gap[i]
+                                && dot(p.frame[0], nrm) > 1.0 - 1e-12
+                        });
+                        match same {
+                            Some(p) => p.copies.push(copy),
+                            None => pairs.push(ContactPair {
+                                a,
+                                b,
+                                frame: frame(nrm),
+                                friction: c.friction,
+                                gap: c.gap[i],
+                                copies: vec![copy],
+                            }),
+                        }
+                    }
+                }
+            }
+        }
+        let mut free_index = vec![usize::MAX; n];
+        let mut free = 0;
+        for (g, p) in prescribed.iter().enumerate() {
+            if p.is_none() {
+                free_index[g] = free;
+                free += 1;
+            }
+        }
+        Ok(Self {
+            numbering,
+            mass,
+            stiffness,
+            v0,
+            prescribed,
+            tractions,
+            pairs,
+            free_index,
+            free,
+        })
+    }
+
+    /// Lower-triangle triplets of S_ff = (2/Δt M + Δt/2 K) restricted to the free dofs.
+    pub fn free_operator(&self, dt: f64) -> Vec<Triplet<usize, usize, f64>> {
+        let mut t: Vec<Triplet<usize, usize, f64>> = self
+            .stiffness
+            .lower_entries()
+            .filter_map(|(r, c, v)| {
+                let (fr, fc) = (self.free_index[r], self.free_index[c]);
+                (fr != usize::MAX && fc != usize::MAX).then(|| {
+                    // free numbering preserves order, so row ≥ col stays lower
+                    Triplet::new(fr, fc, 0.5 * dt * v)
+                })
+            })
+            .collect();
+        for (g, &m) in self.mass.iter().enumerate() {
+            let f = self.free_index[g];
+            if f != usize::MAX {
+                t.push(Triplet::new(f, f, 2.0 / dt * m));
+            }
+        }
+        t
+    }
+
+    /// Sets the friction coefficient of every contact pair.
+    pub fn set_friction(&mut self, f: f64) {
+        self.pairs.iter_mut().for_each(|p| p.friction = f);
+    }
+}
+
+/// Orthonormal frame (n, t₁, t₂) with t₁ ⟂ n built from the axis least aligned with n.
+fn frame(n: Vec3) -> [Vec3; 3] {
+    let axis = (0..3)
+        .min_by(|&i, &j| n[i].abs().total_cmp(&n[j].abs()))
+        .unwrap_or(0);
+    let mut e = [0.0; 3];
+    e[axis] = 1.0;
+    let t1 = cross(n, e);
+    let l = norm(t1);
+    let t1 = [t1[0] / l, t1[1] / l, t1[2] / l];
+    [n, t1, cross(n, t1)]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn frames_are_orthonormal() {
+        for n in [[0.0, 0.0, 1.0], [0.6, 0.0, -0.8], [1.0, 0.0, 0.0]] {
+            let f = frame(n);
+            for i in 0..3 {
+                for j in 0..3 {
+                    let d = dot(f[i], f[j]);
+                    let want = if i == j { 1.0 } else { 0.0 };
+                    assert!((d - want).abs() < 1e-14, "{n:?} {i} {j} {d}");
+                }
+            }
+        }
+    }
+}

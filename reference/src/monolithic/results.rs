@@ -1,0 +1,157 @@
+//! Quantities of the reference solution in the shapes the LATIN post-processing reports
+//! (post.rs): energy balance (METHOD §2 identity), contact histories per contact interface
+//! (METHOD §5: pressure, gap, slip, step-averaged normal force) and the interface force on every
+//! substructure dof, M_E a + K_E u = Σ_Γ Bᵀ A F (METHOD §2 equilibrium of substructure E).
+
+use super::{MonoSolution, Monolithic};
+use lopin_core::histories::{ContactHistory, EnergyHistory, Summary};
+use lopin_core::interface::Law;
+use lopin_core::mesh::{dot, Vec3};
+
+impl Monolithic {
+    /// Kinetic and strain energy and the cumulative work of the boundary conditions.
+    pub fn energy(&self, sol: &MonoSolution) -> EnergyHistory {
+        let asm = &self.asm;
+        let n = asm.numbering.dofs();
+        let steps = sol.v.len() - 1;
+        let dt = self.problem.time.dt;
+        let mut boundary = vec![false; n];
+        for (g, p) in asm.prescribed.iter().enumerate() {
+            boundary[g] = p.is_some();
+        }
+        for &(g, _, _) in &asm.tractions {
+            boundary[g] = true;
+        }
+        let mut e = EnergyHistory {
+            kinetic: vec![0.0; steps + 1],
+            strain: vec![0.0; steps + 1],
+            input_work: vec![0.0; steps + 1],
+        };
+        let mut prev_b = vec![0.0; n];
+        let mut ku = vec![0.0; n];
+        for m in 0..=steps {
+            let (u, v, a) = (&sol.u[m], &sol.v[m], &sol.a[m]);
+            e.kinetic[m] = 0.5 * (0..n).map(|g| asm.mass[g] * v[g] * v[g]).sum::<f64>();
+            asm.stiffness.mul_into(u, &mut ku);
+            e.strain[m] = 0.5 * dot_slices(u, &ku);
+            // boundary force = M a + K u − contact forces, on boundary dofs
+            let mut b: Vec<f64> = (0..n)
+                .map(|g| {
+                    if boundary[g] {
+                        asm.mass[g] * a[g] + ku[g]
+                    } else {
+                        0.0
+                    }
+                })
+                .collect();
+            for (p, pair) in asm.pairs.iter().enumerate() {
+                let f1 = side1_force(pair.frame, sol.pair_forces[m][p]);
+                for c in 0..3 {
+                    if boundary[3 * pair.a + c] {
+                        b[3 * pair.a + c] -= f1[c];
+                    }
+                    if boundary[3 * pair.b + c] {
+                        b[3 * pair.b + c] += f1[c];
+                    }
+                }
+            }
+            if m > 0 {
+                let vp = &sol.v[m - 1];
+                let dw: f64 = (0..n)
+                    .filter(|&g| boundary[g])
+                    .map(|g| 0.25 * dt * (b[g] + prev_b[g]) * (v[g] + vp[g]))
+                    .sum();
+                e.input_work[m] = e.input_work[m - 1] + dw;
+            }
+            prev_b = b;
+        }
+        e
+    }
+
+    /// Contact histories of every contact interface (the force of a pair is shared among its
+    /// copies in proportion to area: one pressure per pair).
+    pub fn contact(&self, sol: &MonoSolution) -> Vec<ContactHistory> {
+        let steps = sol.v.len() - 1;
+        let mut out: Vec<ContactHistory> = self
+            .problem
+            .interfaces
+            .iter()
+            .enumerate()
+            .filter(|(_, i)| matches!(i.law, Law::Contact(_)))
+            .map(|(k, i)| {
+                let nn = i.node_count();
+                ContactHistory {
+                    interface: k,
+                    pressure: vec![vec![0.0; nn]; steps + 1],
+                    gap: vec![vec![0.0; nn]; steps + 1],
+                    slip: vec![vec![0.0; nn]; steps + 1],
+                    normal_force: vec![0.0; steps + 1],
+                }
+            })
+            .collect();
+        for (p, pair) in self.asm.pairs.iter().enumerate() {
+            let area = pair.area();
+            for copy in &pair.copies {
+                let Some(h) = out.iter_mut().find(|h| h.interface == copy.interface) else {
+                    continue;
+                };
+                for m in 0..=steps {
+                    let pressure = sol.pair_forces[m][p][0] / area;
+                    h.pressure[m][copy.node] = pressure;
+                    h.gap[m][copy.node] = sol.gaps[m][p];
+                    h.slip[m][copy.node] = dot(sol.slips[m][p], sol.slips[m][p]).sqrt();
+                    h.normal_force[m] += copy.area * pressure;
+                }
+            }
+        }
+        for h in &mut out {
+            for m in (1..=steps).rev() {
+                h.normal_force[m] = 0.5 * (h.normal_force[m] + h.normal_force[m - 1]);
+            }
+        }
+        out
+    }
+
+    /// Energy and contact summary.
+    pub fn summary(&self, sol: &MonoSolution) -> Summary {
+        Summary::from_histories(&self.energy(sol), &self.contact(sol))
+    }
+
+    /// Total interface force on every dof of every substructure at step m: M_E a_E + K_E u_E.
+    pub fn sub_forces(&self, sol: &MonoSolution, m: usize) -> Vec<Vec<f64>> {
+        self.problem
+            .subs
+            .iter()
+            .enumerate()
+            .map(|(s, sub)| {
+                let nd = sub.ndof();
+                let gather = |x: &[f64]| -> Vec<f64> {
+                    (0..nd).map(|d| x[self.asm.numbering.dof(s, d)]).collect()
+                };
+                let (u, a) = (gather(&sol.u[m]), gather(&sol.a[m]));
+                let mut f = vec![0.0; nd];
+                sub.stiffness.mul_into(&u, &mut f);
+                for d in 0..nd {
+                    f[d] += sub.mass[d] * a[d];
+                }
+                f
+            })
+            .collect()
+    }
+
+    /// Velocity of every dof of substructure `s` at step m.
+    pub fn sub_velocity(&self, sol: &MonoSolution, m: usize, s: usize) -> Vec<f64> {
+        (0..self.problem.subs[s].ndof())
+            .map(|d| sol.v[m][self.asm.numbering.dof(s, d)])
+            .collect()
+    }
+}
+
+fn dot_slices(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+/// Nodal force on side 1 of a pair in global axes: −P n + T₁ t₁ + T₂ t₂.
+fn side1_force(frame: [Vec3; 3], f: [f64; 3]) -> Vec3 {
+    std::array::from_fn(|c| -f[0] * frame[0][c] + f[1] * frame[1][c] + f[2] * frame[2][c])
+}
