@@ -6,20 +6,26 @@
 
 pub mod app;
 pub mod camera;
+pub mod clock;
 pub mod colormap;
+pub mod field_cache;
 pub mod fields;
 pub mod geometry;
+pub mod layout;
 pub mod measure;
 pub mod mesh_build;
 pub mod page_report;
 pub mod panels;
 pub mod params;
 pub mod plots;
+pub mod protocol;
 pub mod quantity;
 pub mod recorder;
+pub mod recording;
 pub mod render;
 pub mod section;
 mod service;
+pub mod solve_view;
 pub mod timeline;
 pub mod view3d;
 pub mod worker;

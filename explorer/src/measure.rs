@@ -4,7 +4,7 @@
 //! intervals while re-solves run are recorded, printed and written as JSON. Then the window
 //! closes.
 
-use crate::worker::SolveReport;
+use crate::protocol::SolveReport;
 use std::path::PathBuf;
 
 /// Slider moves measured.

@@ -6,7 +6,8 @@
 //! web crate writes it into the page title and the `data-*` attributes of `#lopin-status`;
 //! it is plain data, so the desktop tests check it too.
 
-use crate::app::{ExplorerApp, SolveStatus};
+use crate::app::ExplorerApp;
+use crate::solve_view::SolveStatus;
 
 /// The explorer's state as a page shows it.
 #[derive(Debug, Clone, PartialEq)]
@@ -37,7 +38,7 @@ pub struct PageReport {
     pub section: bool,
     /// Whether the exploded view is on.
     pub exploded: bool,
-    /// Controls a script can click (see [`ExplorerApp::controls`]): left, top, width, height in
+    /// Controls a script can click (see [`crate::layout::ControlRects`]): left, top, width, height in
     /// points (CSS pixels at zoom 1).
     pub controls: Vec<(&'static str, [f32; 4])>,
     /// The 3D view: left, top, width, height in points.
@@ -49,36 +50,43 @@ pub struct PageReport {
 impl PageReport {
     /// The report of an explorer after its last frame.
     pub fn of(app: &ExplorerApp) -> PageReport {
-        let (state, iterations, eta, warm) = match &app.status {
+        let solve = &app.solve;
+        let (state, iterations, eta, warm) = match solve.status() {
             SolveStatus::Starting => ("starting", 0, f64::INFINITY, false),
             SolveStatus::Running {
                 iterations, eta, ..
             } => ("solving", *iterations, *eta, false),
-            SolveStatus::Done(r) if app.busy() => ("solving", r.iterations, r.eta, r.warm),
+            SolveStatus::Done(r) if solve.busy() => ("solving", r.iterations, r.eta, r.warm),
             SolveStatus::Done(r) if r.converged => ("converged", r.iterations, r.eta, r.warm),
             SolveStatus::Done(r) => ("not-converged", r.iterations, r.eta, r.warm),
             SolveStatus::Failed(_) => ("failed", 0, f64::NAN, false),
         };
-        let error = match &app.status {
+        let error = match solve.status() {
             SolveStatus::Failed(e) => Some(e.clone()),
-            _ => app.error.clone(),
+            _ => solve.error().map(String::from),
         };
+        let shown = app.cache.shown();
         PageReport {
             state,
             scene: app.info.name.clone(),
-            generation: app.generation(),
-            friction: app.requested.friction,
+            generation: solve.generation(),
+            friction: solve.requested().friction,
             iterations,
             eta,
             warm,
-            latency_s: app.last_latency,
-            drawn: app.shown_fields().is_some(),
-            step: app.step,
-            shown_step: app.shown_fields().map(|f| (f.step, f.live)),
-            section: app.view.section,
-            exploded: app.view.exploded,
-            controls: app.controls.iter().map(|(k, r)| (*k, rect4(*r))).collect(),
-            view: app.view_rect.map(rect4),
+            latency_s: solve.last_latency(),
+            drawn: shown.is_some(),
+            step: app.clock.step(),
+            shown_step: shown.map(|f| (f.step, f.live)),
+            section: app.layout.view.section,
+            exploded: app.layout.view.exploded,
+            controls: app
+                .layout
+                .controls
+                .iter()
+                .map(|(k, r)| (k, rect4(r)))
+                .collect(),
+            view: app.layout.view_rect().map(rect4),
             error,
         }
     }

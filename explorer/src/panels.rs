@@ -1,21 +1,33 @@
 //! The explorer's top bar (scene picker, solver status) and left panel: the parameters that
 //! launch a warm re-solve (friction, gap, impact velocity, k, μ, tolerance), the view options
 //! (quantity, colour range, deformation, exploded view, section) and the scene's sizes and
-//! per-stage timings.
+//! per-stage timings. Each section borrows only the states it shows or edits.
 
-use crate::app::{ExplorerApp, SolveStatus};
+use crate::app::SceneInfo;
+use crate::clock::Clock;
+use crate::geometry::SceneGeometry;
+use crate::layout::{ControlRects, Layout};
+use crate::params::Params;
 use crate::quantity::Quantity;
+use crate::recording::Recording;
+use crate::solve_view::{SolveStatus, SolveView};
 use egui::{Color32, RichText};
 
-/// Top bar: title, scene picker, status.
-pub fn top_bar(app: &mut ExplorerApp, ui: &mut egui::Ui) {
+/// Top bar: title, scene picker, status. Returns the scene picked, if another one was.
+pub fn top_bar(
+    ui: &mut egui::Ui,
+    info: &SceneInfo,
+    solve: &SolveView,
+    reproducible: bool,
+) -> Option<String> {
+    let mut picked = None;
     egui::Panel::top("lopin-top").show(ui, |ui| {
         ui.horizontal(|ui| {
             ui.heading("Lopin");
             ui.separator();
             let mut chosen = None;
             egui::ComboBox::from_label("scene")
-                .selected_text(app.info.name.clone())
+                .selected_text(info.name.clone())
                 .show_ui(ui, |ui| {
                     // scenes of a million dofs are for the command line (`lopin run`), not a
                     // live view
@@ -23,27 +35,26 @@ pub fn top_bar(app: &mut ExplorerApp, ui: &mut egui::Ui) {
                         .into_iter()
                         .filter(|n| !lopin_core::scene::registry::is_large(n));
                     for name in scenes {
-                        if ui.selectable_label(app.info.name == name, name).clicked() {
+                        if ui.selectable_label(info.name == name, name).clicked() {
                             chosen = Some(name.to_string());
                         }
                     }
                 });
-            if let Some(name) = chosen.filter(|n| *n != app.info.name) {
-                app.pending_scene = Some(name);
-            }
-            ui.label(RichText::new(&app.info.description).weak());
+            picked = chosen.filter(|n| *n != info.name);
+            ui.label(RichText::new(&info.description).weak());
             ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
-                status_label(app, ui);
+                status_label(ui, solve, reproducible);
             });
         });
-        if let Some(e) = &app.error {
+        if let Some(e) = solve.error() {
             ui.colored_label(Color32::from_rgb(220, 80, 60), format!("error: {e}"));
         }
     });
+    picked
 }
 
-fn status_label(app: &ExplorerApp, ui: &mut egui::Ui) {
-    let text = match &app.status {
+fn status_label(ui: &mut egui::Ui, solve: &SolveView, reproducible: bool) {
+    let text = match solve.status() {
         SolveStatus::Starting => "factorizing…".to_string(),
         SolveStatus::Running {
             iterations, eta, ..
@@ -55,8 +66,8 @@ fn status_label(app: &ExplorerApp, ui: &mut egui::Ui) {
                 if r.warm { " (warm)" } else { "" },
                 r.eta
             );
-            if !app.options.reproducible {
-                if let Some(l) = app.last_latency {
+            if !reproducible {
+                if let Some(l) = solve.last_latency() {
                     t += &format!(", {:.0} ms", 1e3 * l);
                 }
             }
@@ -71,28 +82,22 @@ fn status_label(app: &ExplorerApp, ui: &mut egui::Ui) {
     ui.label(text);
 }
 
-/// Left panel: parameters, view options, sizes and timings.
-pub fn controls(app: &mut ExplorerApp, ui: &mut egui::Ui) {
+/// Left panel, scrolling: `sections` lays out its content (parameters, view options,
+/// recording, sizes and timings, separated).
+pub fn left(ui: &mut egui::Ui, sections: impl FnOnce(&mut egui::Ui)) {
     egui::Panel::left("lopin-controls")
         .resizable(false)
         .exact_size(280.0)
         .show(ui, |ui| {
             ui.spacing_mut().slider_width = 110.0;
-            egui::ScrollArea::vertical().show(ui, |ui| {
-                parameters(app, ui);
-                ui.separator();
-                view_options(app, ui);
-                ui.separator();
-                recording(app, ui);
-                ui.separator();
-                sizes(app, ui);
-            });
+            egui::ScrollArea::vertical().show(ui, sections);
         });
 }
 
-fn parameters(app: &mut ExplorerApp, ui: &mut egui::Ui) {
+/// The parameters that launch a warm re-solve (the controls' values in `p`); the friction
+/// slider's rail goes into `controls`.
+pub fn parameters(ui: &mut egui::Ui, p: &mut Params, controls: &mut ControlRects) {
     ui.strong("Parameters (each change re-solves warm)");
-    let p = &mut app.params;
     if let Some(f) = &mut p.friction {
         let rail_width = ui.spacing().slider_width;
         let r = ui.add(
@@ -100,8 +105,7 @@ fn parameters(app: &mut ExplorerApp, ui: &mut egui::Ui) {
                 .clamping(egui::SliderClamping::Never)
                 .text("friction f"),
         );
-        app.controls
-            .insert("friction", slider_rail(r.rect, rail_width));
+        controls.place("friction", slider_rail(r.rect, rail_width));
     }
     if let Some(g) = &mut p.gap {
         let mut um = *g * 1e6;
@@ -149,7 +153,7 @@ fn parameters(app: &mut ExplorerApp, ui: &mut egui::Ui) {
 /// In the browser the "record to Rerun" toggle is hidden, with the reason: a page has no
 /// filesystem and cannot reach a viewer.
 #[cfg(target_arch = "wasm32")]
-fn recording(_app: &mut ExplorerApp, ui: &mut egui::Ui) {
+pub fn recording(ui: &mut egui::Ui, _recording: &mut Recording, _solve: &mut SolveView) {
     ui.strong("Recording");
     ui.weak("Rerun recording: desktop only (hover for why)")
         .on_hover_text(
@@ -158,11 +162,12 @@ fn recording(_app: &mut ExplorerApp, ui: &mut egui::Ui) {
     );
 }
 
-/// The "record to Rerun" toggle, its target and how many solves went there.
+/// The "record to Rerun" toggle, its target and how many solves went there; a failure to
+/// switch it on is shown as `solve`'s error.
 #[cfg(not(target_arch = "wasm32"))]
-fn recording(app: &mut ExplorerApp, ui: &mut egui::Ui) {
+pub fn recording(ui: &mut egui::Ui, recording: &mut Recording, solve: &mut SolveView) {
     ui.strong("Recording");
-    if app.options.recorder.is_none() {
+    if !recording.available() {
         ui.add_enabled(
             false,
             egui::Checkbox::new(&mut false, "record to Rerun"),
@@ -172,28 +177,33 @@ fn recording(app: &mut ExplorerApp, ui: &mut egui::Ui) {
         );
         return;
     }
-    let mut on = app.recording;
+    let mut on = recording.is_on();
     if ui
         .checkbox(&mut on, "record to Rerun")
         .on_hover_text("Record every converged solve (fields per time step, η per iteration, parameters) to Rerun")
         .changed()
     {
-        app.set_recording(on);
+        if let Err(e) = recording.set(on, solve.worker()) {
+            solve.set_error(e);
+        }
     }
-    if let Some(t) = &app.recording_target {
-        ui.label(format!("{} solve(s) to {t}", app.recorded_solves));
+    if let Some(t) = recording.target() {
+        ui.label(format!("{} solve(s) to {t}", recording.solves()));
     }
 }
 
-fn view_options(app: &mut ExplorerApp, ui: &mut egui::Ui) {
+/// The view options: quantity, colour range, deformation, exploded view, section, camera reset;
+/// interface quantities are offered when the scene (`info`) has contacts.
+pub fn view_options(ui: &mut egui::Ui, layout: &mut Layout, info: &SceneInfo) {
     ui.strong("View");
-    let v = &mut app.view;
+    let extent = layout.mesh().extent;
+    let (v, controls) = (&mut layout.view, &mut layout.controls);
     let before = v.quantity;
     egui::ComboBox::from_label("field")
         .selected_text(v.quantity.label())
         .show_ui(ui, |ui| {
             for q in Quantity::ALL {
-                let enabled = !q.on_interfaces() || app.info.contacts > 0;
+                let enabled = !q.on_interfaces() || info.contacts > 0;
                 ui.add_enabled_ui(enabled, |ui| {
                     ui.selectable_value(&mut v.quantity, q, q.label());
                 });
@@ -209,7 +219,7 @@ fn view_options(app: &mut ExplorerApp, ui: &mut egui::Ui) {
     ui.horizontal(|ui| {
         ui.radio_value(&mut v.fixed_range, false, "auto range");
         if ui.radio_value(&mut v.fixed_range, true, "fixed").clicked() {
-            let (lo, hi) = app.mesh.extent;
+            let (lo, hi) = extent;
             v.range_min = lo;
             v.range_max = hi;
         }
@@ -239,7 +249,7 @@ fn view_options(app: &mut ExplorerApp, ui: &mut egui::Ui) {
     });
     ui.horizontal(|ui| {
         let r = ui.checkbox(&mut v.exploded, "exploded");
-        app.controls.insert("exploded", r.rect);
+        controls.place("exploded", r.rect);
         ui.add_enabled(
             v.exploded,
             egui::Slider::new(&mut v.explode_amount, 0.05..=1.0)
@@ -248,7 +258,7 @@ fn view_options(app: &mut ExplorerApp, ui: &mut egui::Ui) {
         );
     });
     let r = ui.checkbox(&mut v.section, "section");
-    app.controls.insert("section", r.rect);
+    controls.place("section", r.rect);
     ui.add_enabled_ui(v.section, |ui| {
         ui.horizontal(|ui| {
             for (a, name) in ["x", "y", "z"].iter().enumerate() {
@@ -258,12 +268,20 @@ fn view_options(app: &mut ExplorerApp, ui: &mut egui::Ui) {
         ui.add(egui::Slider::new(&mut v.section_fraction, 0.0..=1.0).text("cut position"));
     });
     if ui.button("reset view").clicked() {
-        app.camera = crate::camera::Camera::framing(app.geometry.lo, app.geometry.hi);
+        layout.reset_camera();
     }
 }
 
-fn sizes(app: &ExplorerApp, ui: &mut egui::Ui) {
-    let i = &app.info;
+/// The scene's sizes and the session's per-stage timings (hidden when `reproducible`), with the
+/// frame rate.
+pub fn sizes(
+    ui: &mut egui::Ui,
+    i: &SceneInfo,
+    geometry: &SceneGeometry,
+    solve: &SolveView,
+    clock: &Clock,
+    reproducible: bool,
+) {
     ui.strong("Scene");
     egui::Grid::new("sizes").num_columns(2).show(ui, |ui| {
         let mut row = |k: &str, v: String| {
@@ -278,14 +296,14 @@ fn sizes(app: &ExplorerApp, ui: &mut egui::Ui) {
         );
         row("dofs", i.dofs.to_string());
         row("time steps", format!("{} × {:.3} µs", i.steps, i.dt * 1e6));
-        row("triangles", app.geometry.triangle_count().to_string());
+        row("triangles", geometry.triangle_count().to_string());
     });
     ui.strong("Timings (s, whole session)");
-    let Some(r) = app.reports.last() else {
+    let Some(r) = solve.reports().last() else {
         ui.label("—");
         return;
     };
-    if app.options.reproducible {
+    if reproducible {
         ui.label("(hidden for reproducible screenshots)");
         return;
     }
@@ -301,7 +319,7 @@ fn sizes(app: &ExplorerApp, ui: &mut egui::Ui) {
         row("post-processing", r.stages.post);
         row("last solve (wall)", r.solve_s);
     });
-    if let Some(fps) = app.fps() {
+    if let Some(fps) = clock.fps() {
         ui.label(format!("{fps:.0} frames/s"));
     }
 }

@@ -4,8 +4,7 @@
 //! never refactorizes unless k changes (the macro problem is built the first time it is switched
 //! on, and again after a change of k).
 
-use lopin_core::interface::{DofLaw, Law};
-use lopin_core::{Problem, Settings, Solver};
+use lopin_core::{Parameter, Problem, Settings, Solver};
 
 /// One set of parameter values.
 #[derive(Debug, Clone, PartialEq)]
@@ -29,31 +28,23 @@ pub struct Params {
 impl Params {
     /// The values a built problem and its settings start with.
     pub fn of(problem: &Problem, settings: &Settings) -> Params {
-        let contact = problem.interfaces.iter().find_map(|i| match &i.law {
-            Law::Contact(c) => Some(c),
-            _ => None,
-        });
-        let velocity = problem
-            .interfaces
-            .iter()
-            .filter_map(|i| match &i.law {
-                Law::Boundary(d) => Some(d),
-                _ => None,
-            })
-            .flatten()
-            .filter_map(|d| match d.law {
-                DofLaw::Velocity(f) if f.amplitude != 0.0 => Some(f.amplitude.abs()),
-                _ => None,
-            })
-            .reduce(f64::max);
         Params {
-            friction: contact.map(|c| c.friction),
-            gap: contact.map(|c| c.gap.first().copied().unwrap_or(0.0)),
-            velocity,
+            friction: Parameter::Friction.current(problem),
+            gap: Parameter::Gap.current(problem),
+            velocity: Parameter::VelocityAmplitude.current(problem),
             k: settings.k,
             mu: settings.mu,
             tol: settings.tol,
             two_scale: settings.two_scale,
+        }
+    }
+
+    /// The value of an interface parameter (None: the scene has nothing it applies to).
+    pub fn get(&self, p: Parameter) -> Option<f64> {
+        match p {
+            Parameter::Friction => self.friction,
+            Parameter::Gap => self.gap,
+            Parameter::VelocityAmplitude => self.velocity,
         }
     }
 
@@ -67,15 +58,10 @@ impl Params {
         settings.tol = self.tol;
         settings.two_scale = self.two_scale;
         solver.set_settings(settings)?;
-        let changed = |a: Option<f64>, b: Option<f64>| a.filter(|&x| Some(x) != b);
-        if let Some(f) = changed(self.friction, before.friction) {
-            solver.set_friction(f)?;
-        }
-        if let Some(g) = changed(self.gap, before.gap) {
-            solver.set_gap(g)?;
-        }
-        if let Some(v) = changed(self.velocity, before.velocity) {
-            solver.set_velocity_amplitude(v)?;
+        for p in Parameter::ALL {
+            if let Some(v) = self.get(p).filter(|&v| Some(v) != before.get(p)) {
+                solver.set_parameter(p, v)?;
+            }
         }
         Ok(())
     }
@@ -83,16 +69,13 @@ impl Params {
     /// A one-line description for the convergence plot's markers.
     pub fn describe_change(&self, before: &Params) -> String {
         let mut parts = Vec::new();
-        let opt = |name: &str, a: Option<f64>, b: Option<f64>, parts: &mut Vec<String>| {
-            if let (Some(a), Some(b)) = (a, b) {
+        for p in Parameter::ALL {
+            if let (Some(a), Some(b)) = (self.get(p), before.get(p)) {
                 if a != b {
-                    parts.push(format!("{name} = {a:.4}"));
+                    parts.push(format!("{} = {a:.4}", p.name()));
                 }
             }
-        };
-        opt("f", self.friction, before.friction, &mut parts);
-        opt("gap", self.gap, before.gap, &mut parts);
-        opt("v0", self.velocity, before.velocity, &mut parts);
+        }
         if self.k != before.k {
             parts.push(format!("k = {:.3e}", self.k));
         }

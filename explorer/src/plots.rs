@@ -3,33 +3,42 @@
 //! seed paper's Figure 6, drawn live), the probe's velocity and von Mises history, and the
 //! contact interfaces' total normal force and maximum slip over time.
 
-use crate::app::ExplorerApp;
+use crate::app::SceneInfo;
+use crate::clock::Clock;
+use crate::field_cache::FieldCache;
+use crate::solve_view::SolveView;
 use egui_plot::{Legend, Line, Plot, PlotPoints, VLine};
 
 /// Right panel with the three plots.
-pub fn show(app: &mut ExplorerApp, ui: &mut egui::Ui) {
+pub fn show(
+    ui: &mut egui::Ui,
+    solve: &SolveView,
+    cache: &FieldCache,
+    clock: &Clock,
+    info: &SceneInfo,
+) {
     egui::Panel::right("lopin-plots")
         .resizable(false)
         .exact_size(340.0)
         .show(ui, |ui| {
             let h = ((ui.available_height() - 90.0) / 3.0).max(90.0);
-            convergence(app, ui, h);
+            convergence(ui, solve, h);
             ui.separator();
-            probe(app, ui, h);
+            probe(ui, cache, clock, info, h);
             ui.separator();
-            interface(app, ui, h);
+            interface(ui, cache, clock, info, h);
         });
 }
 
-fn convergence(app: &ExplorerApp, ui: &mut egui::Ui, height: f32) {
+fn convergence(ui: &mut egui::Ui, solve: &SolveView, height: f32) {
     ui.strong("Convergence: log10 η against cumulative iterations");
-    let points: PlotPoints = app
-        .convergence
+    let points: PlotPoints = solve
+        .convergence()
         .iter()
         .filter(|p| p[1] > 0.0 && p[1].is_finite())
         .map(|p| [p[0], p[1].log10()])
         .collect();
-    let tol = app.params.tol.log10();
+    let tol = solve.params().tol.log10();
     Plot::new("convergence")
         .height(height)
         .legend(Legend::default())
@@ -40,7 +49,7 @@ fn convergence(app: &ExplorerApp, ui: &mut egui::Ui, height: f32) {
             plot.hline(
                 egui_plot::HLine::new("tolerance", tol).style(egui_plot::LineStyle::dashed_loose()),
             );
-            for (x, what) in app.markers.iter().skip(1) {
+            for (x, what) in solve.markers().iter().skip(1) {
                 plot.vline(
                     VLine::new(what.clone(), *x).color(egui::Color32::from_rgb(230, 150, 40)),
                 );
@@ -48,15 +57,15 @@ fn convergence(app: &ExplorerApp, ui: &mut egui::Ui, height: f32) {
         });
 }
 
-fn probe(app: &ExplorerApp, ui: &mut egui::Ui, height: f32) {
-    let Some((sub, node)) = app.probe else {
+fn probe(ui: &mut egui::Ui, cache: &FieldCache, clock: &Clock, info: &SceneInfo, height: f32) {
+    let Some((sub, node)) = cache.probe() else {
         ui.strong("Probe");
         ui.label("Click a point of the 3D view to plot its velocity and stress over time.");
         return;
     };
     ui.strong(format!("Probe: substructure {sub}, node {node}"));
-    let dt_us = app.info.dt * 1e6;
-    let (speed, vm) = match &app.probe_history {
+    let dt_us = info.dt * 1e6;
+    let (speed, vm) = match cache.probe_history() {
         Some(h) => (
             over_time(h.speed.iter().copied(), dt_us),
             over_time(h.von_mises.iter().map(|v| v * 1e-6), dt_us),
@@ -70,21 +79,21 @@ fn probe(app: &ExplorerApp, ui: &mut egui::Ui, height: f32) {
         .show(ui, |plot| {
             plot.line(Line::new("|v| (m/s)", speed));
             plot.line(Line::new("von Mises (MPa)", vm));
-            plot.vline(VLine::new("now", app.time() * 1e6));
+            plot.vline(VLine::new("now", clock.time() * 1e6));
         });
 }
 
-fn interface(app: &ExplorerApp, ui: &mut egui::Ui, height: f32) {
+fn interface(ui: &mut egui::Ui, cache: &FieldCache, clock: &Clock, info: &SceneInfo, height: f32) {
     ui.strong("Contact interfaces over time");
-    let Some(c) = &app.contact else {
-        ui.label(if app.info.contacts == 0 {
+    let Some(c) = cache.contact() else {
+        ui.label(if info.contacts == 0 {
             "This scene has no contact interface."
         } else {
             "waiting for the solver…"
         });
         return;
     };
-    let dt_us = app.info.dt * 1e6;
+    let dt_us = info.dt * 1e6;
     let steps = c.first().map_or(0, |h| h.normal_force.len());
     let force = over_time(
         (0..steps).map(|m| c.iter().map(|h| h.normal_force[m]).sum::<f64>() * 1e-3),
@@ -106,7 +115,7 @@ fn interface(app: &ExplorerApp, ui: &mut egui::Ui, height: f32) {
         .show(ui, |plot| {
             plot.line(Line::new("normal force (kN)", force));
             plot.line(Line::new("max slip (µm)", slip));
-            plot.vline(VLine::new("now", app.time() * 1e6));
+            plot.vline(VLine::new("now", clock.time() * 1e6));
         });
 }
 

@@ -4,16 +4,16 @@
 //! state machine advanced one [`Service::tick`] at a time (one LATIN iteration or one request),
 //! so the same code runs on a background thread on the desktop and a few iterations per frame
 //! in the browser, where there are no threads. A newer solve request cancels the running solve
-//! at the next tick; the cancelled iterate is still the best start for the new one.
+//! at the next tick; the cancelled iterate is still the best start for the new one. It reads
+//! and writes only the messages of [`crate::protocol`].
 
 use crate::fields;
 use crate::params::Params;
+use crate::protocol::{DisplayStep, Event, ProbeHistory, Request, SolveReport};
 use crate::recorder::{RecordedSolve, RecorderSlot};
-use crate::worker::{Command, Event, ProbeHistory, SolveReport};
 use lopin_core::counters::{Instant, IterationRecord};
 use lopin_core::post;
 use lopin_core::{Control, Problem, Solution, SolveRun, Solver};
-use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::mpsc::Sender;
 use std::sync::Arc;
 
@@ -44,7 +44,7 @@ pub(crate) struct Service {
     /// Generation of the newest recorded solution.
     recorded: Option<u64>,
     recorder: RecorderSlot,
-    display_step: Arc<AtomicUsize>,
+    display_step: DisplayStep,
     events: Sender<Event>,
     wake: Arc<dyn Fn() + Send + Sync>,
 }
@@ -55,7 +55,7 @@ impl Service {
         problem: Problem,
         settings: lopin_core::Settings,
         recorder: RecorderSlot,
-        display_step: Arc<AtomicUsize>,
+        display_step: DisplayStep,
         events: Sender<Event>,
         wake: Arc<dyn Fn() + Send + Sync>,
     ) -> Option<Service> {
@@ -95,18 +95,18 @@ impl Service {
     /// Does one unit of work: starts the newest requested solve (cancelling a running one), or
     /// runs one iteration of the running solve, or serves the oldest other request (field and
     /// probe requests wait until no solve runs). Returns whether work remains.
-    pub(crate) fn tick(&mut self, queue: &mut Vec<Command>) -> bool {
+    pub(crate) fn tick(&mut self, queue: &mut Vec<Request>) -> bool {
         if let Some(i) = queue
             .iter()
-            .rposition(|c| matches!(c, Command::Solve { .. }))
+            .rposition(|c| matches!(c, Request::Solve { .. }))
         {
             let c = queue.remove(i);
-            queue.retain(|c| !matches!(c, Command::Solve { .. }));
+            queue.retain(|c| !matches!(c, Request::Solve { .. }));
             if let Some(mut r) = self.running.take() {
                 r.run.cancel();
                 self.conclude(r);
             }
-            if let Command::Solve { generation, params } = c {
+            if let Request::Solve { generation, params } = c {
                 self.begin(generation, params);
             }
             return true;
@@ -123,17 +123,17 @@ impl Service {
             return false;
         }
         match queue.remove(0) {
-            Command::Fields { step } => {
+            Request::Fields { step } => {
                 if !queue
                     .iter()
-                    .any(|q| matches!(q, Command::Fields { step: s } if *s == step))
+                    .any(|q| matches!(q, Request::Fields { step: s } if *s == step))
                 {
                     self.serve_fields(step);
                 }
             }
-            Command::Probe { sub, node } => self.serve_probe(sub, node),
-            Command::Record => self.record(),
-            Command::Solve { .. } => {}
+            Request::Probe { sub, node } => self.serve_probe(sub, node),
+            Request::Record => self.record(),
+            Request::Solve { .. } => {}
         }
         !queue.is_empty()
     }
@@ -175,7 +175,7 @@ impl Service {
             if last_live.elapsed().as_secs_f64() >= LIVE_PERIOD_S {
                 *last_live = Instant::now();
                 let snap = it.snapshot();
-                let step = display.load(Ordering::Relaxed);
+                let step = display.get();
                 let f = fields::compute(it.solver, &snap, step, generation, true);
                 let _ = events.send(Event::Fields(Arc::new(f)));
                 let c = post::contact(it.solver, &snap);
@@ -213,7 +213,7 @@ impl Service {
         self.iterations = r.iterations;
         self.warm = warm;
         if !cancelled {
-            self.serve_fields(self.display_step.load(Ordering::Relaxed));
+            self.serve_fields(self.display_step.get());
             if let Some((_, sol)) = &self.solution {
                 let c = post::contact(&self.solver, sol);
                 self.send(Event::Contact {

@@ -2,8 +2,9 @@
 //! (scroll), reset (double-click), picking a probe node (click), the wgpu paint callback, and
 //! the colour legend with quantity, unit, range and min/max.
 
-use crate::app::ExplorerApp;
 use crate::colormap;
+use crate::geometry::SceneGeometry;
+use crate::layout::Layout;
 use crate::mesh_build;
 use crate::render::{SceneCallback, Uniforms};
 use eframe::egui_wgpu;
@@ -11,11 +12,17 @@ use egui::{Color32, Pos2, Rect, Sense, Stroke, Vec2};
 
 const BACKGROUND: [f32; 3] = [0.105, 0.11, 0.125];
 
-/// Draws the 3D view in the remaining space.
-pub fn show(app: &mut ExplorerApp, ui: &mut egui::Ui) {
+/// Draws the 3D view of `layout`'s mesh in the remaining space (with the wgpu renderer when
+/// `gpu`) and moves its camera. Returns the node a click picked (substructure, node).
+pub fn show(
+    ui: &mut egui::Ui,
+    layout: &mut Layout,
+    geometry: &SceneGeometry,
+    gpu: bool,
+) -> Option<(usize, usize)> {
     let rect = ui.available_rect_before_wrap();
     let response = ui.allocate_rect(rect, Sense::click_and_drag());
-    app.view_rect = Some(rect);
+    layout.set_view_rect(rect);
     response.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Canvas, true, "3D view"));
     let aspect = rect.width() / rect.height().max(1.0);
     // camera input
@@ -24,41 +31,39 @@ pub fn show(app: &mut ExplorerApp, ui: &mut egui::Ui) {
         || (response.dragged_by(egui::PointerButton::Primary) && ui.input(|i| i.modifiers.shift));
     let d = response.drag_delta();
     if pan {
-        app.camera.pan(d.x, d.y, rect.height());
+        layout.camera.pan(d.x, d.y, rect.height());
     } else if response.dragged_by(egui::PointerButton::Primary) {
-        app.camera.orbit(d.x, d.y);
+        layout.camera.orbit(d.x, d.y);
     }
     if response.hovered() {
         let scroll = ui.input(|i| i.smooth_scroll_delta.y);
         if scroll != 0.0 {
-            app.camera.zoom((scroll * 0.002).exp());
+            layout.camera.zoom((scroll * 0.002).exp());
         }
     }
+    let mut picked = None;
     if response.double_clicked() {
-        app.camera = crate::camera::Camera::framing(app.geometry.lo, app.geometry.hi);
+        layout.reset_camera();
     } else if response.clicked() {
         if let Some(p) = response.interact_pointer_pos() {
             let ndc_x = 2.0 * (p.x - rect.left()) / rect.width() - 1.0;
             let ndc_y = 1.0 - 2.0 * (p.y - rect.top()) / rect.height();
-            let (o, dir) = app.camera.ray(ndc_x, ndc_y, aspect);
-            if let Some((s, n)) = mesh_build::pick(&app.mesh, app.section(), o, dir, &app.geometry)
-            {
-                app.set_probe(s, n);
-            }
+            let (o, dir) = layout.camera.ray(ndc_x, ndc_y, aspect);
+            picked = mesh_build::pick(layout.mesh(), layout.section(geometry), o, dir, geometry);
         }
     }
     let ppp = ui.ctx().pixels_per_point();
-    if app.gpu {
-        let view_proj = app.camera.view_proj(aspect);
-        let light = (app.camera.eye() - app.camera.target).normalize_or_zero()
+    if gpu {
+        let view_proj = layout.camera.view_proj(aspect);
+        let light = (layout.camera.eye() - layout.camera.target).normalize_or_zero()
             + glam::Vec3::new(0.3, 0.2, 0.6);
         let cb = SceneCallback {
-            mesh: app.mesh.clone(),
-            version: app.mesh_version,
+            mesh: layout.mesh().clone(),
+            version: layout.mesh_version(),
             uniforms: Uniforms {
                 view_proj: view_proj.to_cols_array_2d(),
                 light: light.extend(0.0).to_array(),
-                flags: [if app.view.section { 1.0 } else { 0.0 }, 0.0, 0.0, 0.0],
+                flags: [if layout.view.section { 1.0 } else { 0.0 }, 0.0, 0.0, 0.0],
             },
             size_px: [
                 (rect.width() * ppp).round() as u32,
@@ -77,8 +82,8 @@ pub fn show(app: &mut ExplorerApp, ui: &mut egui::Ui) {
             Color32::LIGHT_GRAY,
         );
     }
-    legend(app, ui, rect);
-    if app.mesh.vertices.is_empty() {
+    legend(layout, ui, rect);
+    if layout.mesh().vertices.is_empty() {
         ui.painter().text(
             rect.center(),
             egui::Align2::CENTER_CENTER,
@@ -87,13 +92,14 @@ pub fn show(app: &mut ExplorerApp, ui: &mut egui::Ui) {
             Color32::LIGHT_GRAY,
         );
     }
+    picked
 }
 
 /// Colour bar in the lower-left corner of the view.
-fn legend(app: &ExplorerApp, ui: &egui::Ui, view: Rect) {
-    let q = app.view.quantity;
-    let (lo, hi) = app.mesh.range;
-    let (min, max) = app.mesh.extent;
+fn legend(layout: &Layout, ui: &egui::Ui, view: Rect) {
+    let q = layout.view.quantity;
+    let (lo, hi) = layout.mesh().range;
+    let (min, max) = layout.mesh().extent;
     let painter = ui.painter_at(view);
     let origin = view.left_bottom() + Vec2::new(16.0, -44.0);
     let bar = Rect::from_min_size(origin - Vec2::new(0.0, 150.0), Vec2::new(18.0, 150.0));
@@ -138,7 +144,11 @@ fn legend(app: &ExplorerApp, ui: &egui::Ui, view: Rect) {
             "{} ({}){}",
             q.label(),
             q.unit(),
-            if app.view.fixed_range { ", fixed" } else { "" }
+            if layout.view.fixed_range {
+                ", fixed"
+            } else {
+                ""
+            }
         ),
         egui::Align2::LEFT_CENTER,
     );

@@ -3,108 +3,24 @@
 //! reports as events, so nothing on the UI thread waits for the solver. The solver side is
 //! [`crate::service::Service`]: on the desktop it runs on its own thread; in the browser (no
 //! threads) [`Worker::poll`] advances it for a few milliseconds per frame, one LATIN iteration
-//! at a time, so the page stays responsive while a re-solve converges.
+//! at a time, so the page stays responsive while a re-solve converges. The messages are those
+//! of [`crate::protocol`].
 
-use crate::fields::StepFields;
 use crate::params::Params;
+use crate::protocol::{DisplayStep, Event, Request};
 use crate::recorder::RecorderSlot;
 use crate::service::Service;
-use lopin_core::counters::{Instant, StageTimes};
-use lopin_core::post::ContactHistory;
+use lopin_core::counters::Instant;
 use lopin_core::Problem;
-use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::mpsc::{channel, Receiver};
 use std::sync::Arc;
-
-/// A request from the UI.
-#[derive(Debug, Clone)]
-pub(crate) enum Command {
-    Solve { generation: u64, params: Params },
-    Fields { step: usize },
-    Probe { sub: usize, node: usize },
-    Record,
-}
-
-/// How a solve ended.
-#[derive(Debug, Clone, PartialEq)]
-pub struct SolveReport {
-    /// Generation of the parameter change that started it.
-    pub generation: u64,
-    /// The parameters it solved for.
-    pub params: Params,
-    /// LATIN iterations of this solve.
-    pub iterations: usize,
-    /// Last η.
-    pub eta: f64,
-    /// Whether η < tol was reached.
-    pub converged: bool,
-    /// Whether a newer change stopped it.
-    pub cancelled: bool,
-    /// Whether it started from a previous state (warm) or from zero (cold).
-    pub warm: bool,
-    /// Wall time of the solve (without post-processing), seconds.
-    pub solve_s: f64,
-    /// Engine stage times accumulated over the scene (setup, local, linear, post).
-    pub stages: StageTimes,
-}
-
-/// Velocity and von Mises history of one node (the probe).
-#[derive(Debug, Clone, PartialEq)]
-pub struct ProbeHistory {
-    /// Generation of the solution it comes from.
-    pub generation: u64,
-    /// Substructure and node.
-    pub sub: usize,
-    /// Node of that substructure's mesh.
-    pub node: usize,
-    /// |v| per step, m/s.
-    pub speed: Vec<f64>,
-    /// Node-averaged von Mises stress per step, Pa.
-    pub von_mises: Vec<f64>,
-}
-
-/// What the worker tells the UI.
-#[derive(Debug, Clone)]
-pub enum Event {
-    /// One LATIN iteration done.
-    Progress {
-        /// Generation of the running solve.
-        generation: u64,
-        /// η of this iteration.
-        eta: f64,
-    },
-    /// Fields at one step (live iterate or converged solution).
-    Fields(Arc<StepFields>),
-    /// Contact histories (live iterate or converged solution).
-    Contact {
-        /// Generation they come from.
-        generation: u64,
-        /// One per contact interface.
-        histories: Arc<Vec<ContactHistory>>,
-    },
-    /// A solve ended.
-    Finished(SolveReport),
-    /// A probe history is ready.
-    Probe(Arc<ProbeHistory>),
-    /// A converged solve was recorded.
-    Recorded {
-        /// Its generation.
-        generation: u64,
-        /// Where it went.
-        target: String,
-    },
-    /// Recording a solve failed: the message says why.
-    RecordFailed(String),
-    /// A request failed (bad parameter): the message says which and why.
-    Error(String),
-}
 
 /// The UI side of the worker: send changes, receive events.
 pub struct Worker {
     events: Receiver<Event>,
     /// Events taken from the service but not handed out yet ([`Worker::wait`] in the inline mode).
     pending: std::collections::VecDeque<Event>,
-    display_step: Arc<AtomicUsize>,
+    display_step: DisplayStep,
     generation: u64,
     link: Link,
 }
@@ -113,11 +29,11 @@ pub struct Worker {
 enum Link {
     /// A solver thread (desktop).
     #[cfg(not(target_arch = "wasm32"))]
-    Thread(std::sync::mpsc::Sender<Command>),
+    Thread(std::sync::mpsc::Sender<Request>),
     /// The service itself, advanced from [`Worker::poll`] (browser).
     Inline {
         service: Option<Box<Service>>,
-        queue: Vec<Command>,
+        queue: Vec<Request>,
         /// Budget of the next poll, ms (see [`Worker::set_frame_interval`]).
         budget_ms: f64,
         /// Time the last poll spent in the solver, ms.
@@ -178,7 +94,7 @@ impl Worker {
     ) -> lopin_core::Result<Worker> {
         settings.validate()?;
         let (events, erx) = channel();
-        let display_step = Arc::new(AtomicUsize::new(0));
+        let display_step = DisplayStep::default();
         let shown = display_step.clone();
         let start: StartService =
             Box::new(move || Service::start(problem, settings, recorder, shown, events, wake));
@@ -191,7 +107,7 @@ impl Worker {
         })
     }
 
-    fn send(&mut self, c: Command) {
+    fn send(&mut self, c: Request) {
         match &mut self.link {
             #[cfg(not(target_arch = "wasm32"))]
             Link::Thread(tx) => {
@@ -205,7 +121,7 @@ impl Worker {
     /// generation.
     pub fn solve(&mut self, params: Params) -> u64 {
         self.generation += 1;
-        self.send(Command::Solve {
+        self.send(Request::Solve {
             generation: self.generation,
             params,
         });
@@ -214,22 +130,27 @@ impl Worker {
 
     /// The step shown on screen (live fields are computed there).
     pub fn set_display_step(&self, step: usize) {
-        self.display_step.store(step, Ordering::Relaxed);
+        self.display_step.set(step);
+    }
+
+    /// A handle on the step shown on screen, for the UI state that moves it.
+    pub fn display_step(&self) -> DisplayStep {
+        self.display_step.clone()
     }
 
     /// Asks for the fields of the latest solution at `step`.
     pub fn request_fields(&mut self, step: usize) {
-        self.send(Command::Fields { step });
+        self.send(Request::Fields { step });
     }
 
     /// Asks for the history of one node.
     pub fn request_probe(&mut self, sub: usize, node: usize) {
-        self.send(Command::Probe { sub, node });
+        self.send(Request::Probe { sub, node });
     }
 
     /// Asks to record the newest converged solution (when recording is switched on).
     pub fn request_record(&mut self) {
-        self.send(Command::Record);
+        self.send(Request::Record);
     }
 
     /// Tells the inline solver how long the last frame took, s: it then gets about as much
@@ -337,9 +258,9 @@ fn thread_link(start: StartService) -> lopin_core::Result<Link> {
 /// two units of work (so a newer parameter change cancels the running solve within one
 /// iteration); ends when the [`Worker`] is dropped.
 #[cfg(not(target_arch = "wasm32"))]
-fn serve(service: &mut Service, commands: &Receiver<Command>) {
+fn serve(service: &mut Service, commands: &Receiver<Request>) {
     use std::sync::mpsc::TryRecvError;
-    let mut queue: Vec<Command> = Vec::new();
+    let mut queue: Vec<Request> = Vec::new();
     let mut busy = false;
     loop {
         if !busy {

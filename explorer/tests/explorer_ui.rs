@@ -16,27 +16,39 @@ mod common;
 fn the_friction_slider_launches_a_converged_warm_re_solve() {
     let mut h = harness("two-blocks");
     settle(&mut h);
-    let first = h.state().reports.len();
-    let f0 = h.state().params.friction.expect("two-blocks has a contact");
+    let first = h.state().solve.reports().len();
+    let f0 = h
+        .state()
+        .solve
+        .params()
+        .friction
+        .expect("two-blocks has a contact");
     // a slider move of 0.05, as in the latency benchmark
     let f1 = f0 + 0.05;
     h.get_by_role_and_label(Role::Slider, "friction f")
         .set_value_accesskit(f1);
     h.step();
-    let moved = h.state().params.friction.expect("friction");
+    let moved = h.state().solve.params().friction.expect("friction");
     assert!((moved - f1).abs() < 1e-9, "{moved} vs {f1}");
-    assert!(h.state().busy(), "a re-solve starts at once");
+    assert!(h.state().solve.busy(), "a re-solve starts at once");
     settle(&mut h);
     let app = h.state();
-    let r = app.reports.last().expect("a report");
-    assert!(app.reports.len() > first);
-    assert!(r.converged && r.warm && r.eta < app.params.tol, "{r:?}");
+    let r = app.solve.reports().last().expect("a report");
+    assert!(app.solve.reports().len() > first);
+    assert!(
+        r.converged && r.warm && r.eta < app.solve.params().tol,
+        "{r:?}"
+    );
     assert_eq!(r.params.friction, Some(moved));
     // the convergence plot has a marker at the change and every η of both solves
-    assert_eq!(app.markers.len(), 2);
-    assert!(app.markers[1].1.starts_with("f = "), "{:?}", app.markers);
-    let total: usize = app.reports.iter().map(|r| r.iterations).sum();
-    assert_eq!(app.convergence.len(), total);
+    assert_eq!(app.solve.markers().len(), 2);
+    assert!(
+        app.solve.markers()[1].1.starts_with("f = "),
+        "{:?}",
+        app.solve.markers()
+    );
+    let total: usize = app.solve.reports().iter().map(|r| r.iterations).sum();
+    assert_eq!(app.solve.convergence().len(), total);
 }
 
 #[test]
@@ -47,30 +59,30 @@ fn scrubbing_time_switching_field_and_moving_the_section_change_the_view() {
     h.get_by_role_and_label(Role::Slider, "step")
         .set_value_accesskit(10.0);
     settle(&mut h);
-    assert_eq!(h.state().step, 10);
-    let vm_mesh = h.state().mesh.clone();
+    assert_eq!(h.state().clock.step(), 10);
+    let vm_mesh = h.state().layout.mesh().clone();
     assert!(
         vm_mesh.extent.1 > 0.0,
         "stress is drawn: {:?}",
         vm_mesh.extent
     );
     // field: velocity magnitude, in m/s; nothing is re-solved
-    let solves = h.state().reports.len();
-    h.state_mut().view.quantity = Quantity::Velocity;
+    let solves = h.state().solve.reports().len();
+    h.state_mut().layout.view.quantity = Quantity::Velocity;
     h.step();
-    let v_mesh = h.state().mesh.clone();
+    let v_mesh = h.state().layout.mesh().clone();
     assert_ne!(v_mesh.extent, vm_mesh.extent);
     assert!(
         v_mesh.extent.1 > 0.1 && v_mesh.extent.1 < 100.0,
         "{:?}",
         v_mesh.extent
     );
-    assert_eq!(h.state().reports.len(), solves);
+    assert_eq!(h.state().solve.reports().len(), solves);
     // section: the cut faces add triangles; moving it changes them
     h.get_by_role_and_label(Role::CheckBox, "section").click();
     h.step();
-    assert!(h.state().view.section);
-    let cut_mesh = h.state().mesh.clone();
+    assert!(h.state().layout.view.section);
+    let cut_mesh = h.state().layout.mesh().clone();
     let cut = cut_mesh.vertices.len();
     assert!(
         cut > v_mesh.vertices.len(),
@@ -80,13 +92,13 @@ fn scrubbing_time_switching_field_and_moving_the_section_change_the_view() {
     h.get_by_role_and_label(Role::Slider, "cut position")
         .set_value_accesskit(0.25);
     h.step();
-    assert!((h.state().view.section_fraction - 0.25).abs() < 1e-6);
-    assert_ne!(h.state().mesh.vertices, cut_mesh.vertices);
+    assert!((h.state().layout.view.section_fraction - 0.25).abs() < 1e-6);
+    assert_ne!(h.state().layout.mesh().vertices, cut_mesh.vertices);
     // a camera move alone rebuilds nothing
-    let version = h.state().mesh_version;
-    h.state_mut().camera.orbit(40.0, 10.0);
+    let version = h.state().layout.mesh_version();
+    h.state_mut().layout.camera.orbit(40.0, 10.0);
     h.step();
-    assert_eq!(h.state().mesh_version, version);
+    assert_eq!(h.state().layout.mesh_version(), version);
 }
 
 #[test]
@@ -102,7 +114,7 @@ fn a_click_on_the_body_picks_a_probe_with_a_history() {
     h.drop_at(centre);
     h.step();
     let start = Instant::now();
-    while h.state().probe_history.is_none() {
+    while h.state().cache.probe_history().is_none() {
         h.step();
         assert!(
             start.elapsed() < Duration::from_secs(60),
@@ -111,7 +123,7 @@ fn a_click_on_the_body_picks_a_probe_with_a_history() {
         std::thread::sleep(Duration::from_millis(10));
     }
     let app = h.state();
-    let p = app.probe_history.as_ref().expect("history");
+    let p = app.cache.probe_history().expect("history");
     assert_eq!(p.speed.len(), app.info.steps + 1);
     assert_eq!(p.speed[0], 0.0, "at rest before the impact");
     assert!(p.speed.iter().copied().fold(0.0, f64::max) > 0.1);
@@ -123,15 +135,15 @@ fn snapshots_of_the_main_views() {
     let mut h = harness("two-blocks");
     settle(&mut h);
     h.snapshot("two_blocks_von_mises");
-    h.state_mut().view.quantity = Quantity::Velocity;
-    h.state_mut().view.section = true;
-    h.state_mut().view.section_axis = 1;
+    h.state_mut().layout.view.quantity = Quantity::Velocity;
+    h.state_mut().layout.view.section = true;
+    h.state_mut().layout.view.section_axis = 1;
     h.step();
     h.step();
     h.snapshot("two_blocks_velocity_section");
-    h.state_mut().view.section = false;
-    h.state_mut().view.quantity = Quantity::Pressure;
-    h.state_mut().view.exploded = true;
+    h.state_mut().layout.view.section = false;
+    h.state_mut().layout.view.quantity = Quantity::Pressure;
+    h.state_mut().layout.view.exploded = true;
     h.step();
     h.step();
     h.snapshot("two_blocks_contact_pressure_exploded");
@@ -146,9 +158,18 @@ fn the_scene_picker_loads_another_scene() {
     settle(&mut h);
     let app = h.state();
     assert_eq!(app.info.name, "gap-impact");
-    assert_eq!(app.reports.len(), 1, "a fresh session: {:?}", app.reports);
-    assert!(app.params.gap.is_some_and(|g| g > 0.0), "{:?}", app.params);
-    assert!(!app.mesh.vertices.is_empty());
+    assert_eq!(
+        app.solve.reports().len(),
+        1,
+        "a fresh session: {:?}",
+        app.solve.reports()
+    );
+    assert!(
+        app.solve.params().gap.is_some_and(|g| g > 0.0),
+        "{:?}",
+        app.solve.params()
+    );
+    assert!(!app.layout.mesh().vertices.is_empty());
 }
 
 /// granular-small (the second demo): the exploded view pulls every cell apart, so the grains
@@ -160,13 +181,14 @@ fn granular_small_exploded_shows_the_grains_and_the_macro_switch_re_solves() {
     settle(&mut h);
     let contacts = h.state().info.contacts;
     assert!(contacts > 0);
-    h.state_mut().view.quantity = Quantity::Pressure;
-    h.state_mut().view.exploded = true;
+    h.state_mut().layout.view.quantity = Quantity::Pressure;
+    h.state_mut().layout.view.exploded = true;
     h.step();
     h.step();
     let app = h.state();
     let coloured: std::collections::BTreeSet<u32> = app
-        .mesh
+        .layout
+        .mesh()
         .vertices
         .iter()
         .filter(|v| {
@@ -174,8 +196,13 @@ fn granular_small_exploded_shows_the_grains_and_the_macro_switch_re_solves() {
         })
         .map(|v| v.body as u32)
         .collect();
-    let all: std::collections::BTreeSet<u32> =
-        app.mesh.vertices.iter().map(|v| v.body as u32).collect();
+    let all: std::collections::BTreeSet<u32> = app
+        .layout
+        .mesh()
+        .vertices
+        .iter()
+        .map(|v| v.body as u32)
+        .collect();
     println!(
         "granular-small exploded: {} of {} cells show contact pressure ({contacts} contacts)",
         coloured.len(),
@@ -184,18 +211,21 @@ fn granular_small_exploded_shows_the_grains_and_the_macro_switch_re_solves() {
     assert_eq!(all.len(), 64);
     assert!(coloured.len() >= 6 && coloured.len() < 64, "{coloured:?}");
     h.snapshot("granular_small_contact_pressure_exploded");
-    let before = h.state().reports.len();
+    let before = h.state().solve.reports().len();
     h.get_by_label("macro problem (two-scale)").click();
     h.step();
-    assert!(h.state().params.two_scale);
+    assert!(h.state().solve.params().two_scale);
     settle(&mut h);
     let app = h.state();
-    let r = app.reports.last().expect("a report");
-    assert!(app.reports.len() > before);
+    let r = app.solve.reports().last().expect("a report");
+    assert!(app.solve.reports().len() > before);
     assert!(r.converged && r.warm && r.params.two_scale, "{r:?}");
     assert!(
-        app.markers.last().is_some_and(|m| m.1.contains("macro on")),
+        app.solve
+            .markers()
+            .last()
+            .is_some_and(|m| m.1.contains("macro on")),
         "{:?}",
-        app.markers
+        app.solve.markers()
     );
 }

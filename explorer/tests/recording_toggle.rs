@@ -65,13 +65,13 @@ impl Drop for TestRecorder {
 
 fn wait_for(h: &mut egui_kittest::Harness<'static, lopin_explorer::ExplorerApp>, n: usize) {
     let start = std::time::Instant::now();
-    while h.state().recorded_solves < n {
+    while h.state().recording.solves() < n {
         h.step();
         assert!(
             start.elapsed().as_secs() < 120,
             "{} solves recorded, waiting for {n}; error {:?}",
-            h.state().recorded_solves,
-            h.state().error
+            h.state().recording.solves(),
+            h.state().solve.error()
         );
         std::thread::sleep(std::time::Duration::from_millis(10));
     }
@@ -101,16 +101,16 @@ fn recording_follows_the_toggle_and_every_converged_solve() {
     // on: the solve on screen is recorded at once
     h.get_by_label("record to Rerun").click();
     h.step();
-    assert!(h.state().recording);
+    assert!(h.state().recording.is_on());
     wait_for(&mut h, 1);
-    let first = h.state().reports[0].clone();
+    let first = h.state().solve.reports()[0].clone();
     // a slider move: the warm re-solve follows
-    let f0 = h.state().params.friction.expect("contact");
+    let f0 = h.state().solve.params().friction.expect("contact");
     h.get_by_role_and_label(Role::Slider, "friction f")
         .set_value_accesskit(f0 + 0.05);
     settle(&mut h);
     wait_for(&mut h, 2);
-    let second = h.state().reports.last().expect("report").clone();
+    let second = h.state().solve.reports().last().expect("report").clone();
     {
         let log = log.lock().expect("log");
         assert_eq!(log.opened, vec!["two-blocks".to_string()]);
@@ -130,11 +130,11 @@ fn recording_follows_the_toggle_and_every_converged_solve() {
         }
         assert_eq!(log.closed, 0);
     }
-    assert!(h.state().recording_target.as_deref() == Some("test:two-blocks"));
+    assert!(h.state().recording.target() == Some("test:two-blocks"));
     // off: the recorder is closed and later solves are not recorded
     h.get_by_label("record to Rerun").click();
     h.step();
-    assert!(!h.state().recording);
+    assert!(!h.state().recording.is_on());
     assert_eq!(log.lock().expect("log").closed, 1);
     h.get_by_role_and_label(Role::Slider, "friction f")
         .set_value_accesskit(f0);
@@ -153,5 +153,5 @@ fn without_a_recorder_the_toggle_is_disabled() {
     );
     toggle.click();
     h.step();
-    assert!(!h.state().recording);
+    assert!(!h.state().recording.is_on());
 }

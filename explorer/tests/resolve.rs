@@ -4,10 +4,11 @@
 //! thread and the browser's inline mode (a few iterations per poll), which must give the same
 //! iterates bit for bit.
 
-use lopin_core::{post, scene, Settings, Solver};
+use lopin_core::{post, scene, Parameter, Settings, Solver};
 use lopin_explorer::fields::StepFields;
 use lopin_explorer::params::Params;
-use lopin_explorer::worker::{Event, SolveReport, Worker};
+use lopin_explorer::protocol::{Event, SolveReport};
+use lopin_explorer::worker::Worker;
 use std::sync::Arc;
 use std::time::Duration;
 
@@ -89,7 +90,9 @@ fn slider_change_converges_warm(spawn: Spawn) {
 
     // cold solve at f = 0.1 with the same settings
     let mut cold_problem = problem.clone();
-    cold_problem.set_friction(0.1);
+    Parameter::Friction
+        .apply(&mut cold_problem, 0.1)
+        .expect("f");
     let mut solver = Solver::new(cold_problem, settings).expect("solver");
     let cold = solver.solve(None).expect("cold solve");
     assert!(cold.converged);

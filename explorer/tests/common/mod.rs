@@ -29,17 +29,18 @@ pub fn settle(h: &mut Harness<'static, ExplorerApp>) {
     loop {
         h.step();
         let app = h.state();
-        let ready = app.converged()
+        let ready = app.solve.converged()
             && app
-                .shown_fields()
-                .is_some_and(|f| !f.live && f.step == app.step);
+                .cache
+                .shown()
+                .is_some_and(|f| !f.live && f.step == app.clock.step());
         if ready {
             break;
         }
         assert!(
             start.elapsed() < Duration::from_secs(180),
             "the explorer did not settle: {:?}",
-            app.status
+            app.solve.status()
         );
         std::thread::sleep(Duration::from_millis(10));
     }

@@ -1,0 +1,132 @@
+//! The fields the screen needs, as they arrive from the worker: the converged fields of the
+//! steps already seen (cleared when a newer solution arrives), the live iterate of a running
+//! solve, the fields on screen and the step requested, the contact histories of the newest
+//! solution or iterate, and the probe (the picked node and its history).
+
+use crate::fields::StepFields;
+use crate::protocol::ProbeHistory;
+use crate::worker::Worker;
+use lopin_core::post::ContactHistory;
+use std::collections::HashMap;
+use std::sync::Arc;
+
+/// Cached fields, contact histories and the probe.
+#[derive(Default)]
+pub struct FieldCache {
+    /// Converged fields per step, all of generation `generation`.
+    steps: HashMap<usize, Arc<StepFields>>,
+    generation: u64,
+    /// The newest live iterate of the running solve.
+    live: Option<Arc<StepFields>>,
+    /// The fields on screen.
+    shown: Option<Arc<StepFields>>,
+    /// The step whose converged fields were asked for and have not arrived.
+    requested_step: Option<usize>,
+    /// Contact histories of the newest solution or iterate.
+    contact: Option<Arc<Vec<ContactHistory>>>,
+    /// Picked node (substructure, node).
+    probe: Option<(usize, usize)>,
+    /// Its history.
+    probe_history: Option<Arc<ProbeHistory>>,
+}
+
+impl FieldCache {
+    /// The fields on screen, if any have arrived.
+    pub fn shown(&self) -> Option<&Arc<StepFields>> {
+        self.shown.as_ref()
+    }
+
+    /// Contact histories of the newest solution or iterate.
+    pub fn contact(&self) -> Option<&Arc<Vec<ContactHistory>>> {
+        self.contact.as_ref()
+    }
+
+    /// The picked node (substructure, node).
+    pub fn probe(&self) -> Option<(usize, usize)> {
+        self.probe
+    }
+
+    /// The picked node's history, once it has arrived.
+    pub fn probe_history(&self) -> Option<&Arc<ProbeHistory>> {
+        self.probe_history.as_ref()
+    }
+
+    /// Picks a node for the probe and asks the worker for its history.
+    pub fn set_probe(&mut self, sub: usize, node: usize, worker: &mut Worker) {
+        self.probe = Some((sub, node));
+        self.probe_history = None;
+        worker.request_probe(sub, node);
+    }
+
+    /// Puts on screen the fields of `step`: the converged ones if cached (and of the newest
+    /// finished solve, `done_generation`), else the live iterate while `busy`, else asks the
+    /// worker for them (once).
+    pub fn show_step(
+        &mut self,
+        step: usize,
+        busy: bool,
+        done_generation: u64,
+        worker: &mut Worker,
+    ) {
+        let exact = self
+            .steps
+            .get(&step)
+            .filter(|_| self.generation == done_generation)
+            .cloned();
+        match exact {
+            Some(f) => self.shown = Some(f),
+            None => {
+                if busy {
+                    if let Some(l) = &self.live {
+                        self.shown = Some(l.clone());
+                    }
+                } else if self.requested_step != Some(step) {
+                    worker.request_fields(step);
+                    self.requested_step = Some(step);
+                }
+            }
+        }
+    }
+
+    /// Takes fields from the worker: a live iterate of the `newest` solve, or converged fields
+    /// (those of an older solution are dropped).
+    pub fn receive_fields(&mut self, f: Arc<StepFields>, newest: u64) {
+        if f.live {
+            if f.generation == newest {
+                self.live = Some(f);
+            }
+        } else {
+            if f.generation != self.generation {
+                self.steps.clear();
+                self.generation = f.generation;
+            }
+            if self.requested_step == Some(f.step) {
+                self.requested_step = None;
+            }
+            self.steps.insert(f.step, f);
+        }
+    }
+
+    /// Takes the contact histories of the newest solve.
+    pub fn receive_contact(&mut self, histories: Arc<Vec<ContactHistory>>) {
+        self.contact = Some(histories);
+    }
+
+    /// Takes a probe history, if it is the picked node's.
+    pub fn receive_probe(&mut self, p: Arc<ProbeHistory>) {
+        if Some((p.sub, p.node)) == self.probe {
+            self.probe_history = Some(p);
+        }
+    }
+
+    /// The newest solve ended: the live iterate is dropped, the displayed step is asked for
+    /// again and the probe's history is recomputed.
+    pub fn solve_finished(&mut self, worker: &mut Worker) {
+        self.live = None;
+        self.requested_step = None;
+        if let Some((s, n)) = self.probe {
+            self.probe_history = None;
+            worker.request_probe(s, n);
+        }
+    }
+}

@@ -1,0 +1,251 @@
+//! The solve as the UI sees it: it owns the [`Worker`] handle, the parameter values the controls
+//! show and those of the newest request, where the solver stands, every η so far with a marker
+//! at each parameter change (the convergence plot), the reports of the finished solves, the
+//! re-solve latency and the last error message. It applies the worker's events each frame,
+//! handing fields, contact histories and probes to the [`FieldCache`] and recording outcomes to
+//! the [`Recording`].
+
+use crate::field_cache::FieldCache;
+use crate::measure::Measure;
+use crate::params::Params;
+use crate::protocol::{Event, SolveReport};
+use crate::recording::Recording;
+use crate::worker::Worker;
+use lopin_core::counters::Instant;
+
+/// Where the solver stands.
+#[derive(Debug, Clone, PartialEq)]
+pub enum SolveStatus {
+    /// Factorizing / first solve not started.
+    Starting,
+    /// A solve runs.
+    Running {
+        /// Its generation.
+        generation: u64,
+        /// Iterations so far.
+        iterations: usize,
+        /// Last η.
+        eta: f64,
+    },
+    /// The newest solve ended.
+    Done(SolveReport),
+    /// Something failed.
+    Failed(String),
+}
+
+/// The solve view: parameters, solver status, convergence history and the worker.
+pub struct SolveView {
+    worker: Worker,
+    /// Parameter values shown by the controls.
+    params: Params,
+    /// Parameter values of the newest solve requested.
+    requested: Params,
+    status: SolveStatus,
+    /// Every η so far: (cumulative iteration, η).
+    convergence: Vec<[f64; 2]>,
+    /// Parameter changes: (cumulative iteration, description).
+    markers: Vec<(f64, String)>,
+    /// Reports of the finished solves, oldest first.
+    reports: Vec<SolveReport>,
+    /// Last error message (bad parameter, failed load, recording).
+    error: Option<String>,
+    /// Time of the newest parameter change.
+    change_time: Option<Instant>,
+    /// Seconds from the newest parameter change to its converged solve.
+    last_latency: Option<f64>,
+}
+
+impl SolveView {
+    /// Starts the first (cold) solve with `params` on `worker`.
+    pub fn start(mut worker: Worker, params: Params) -> SolveView {
+        worker.solve(params.clone());
+        SolveView {
+            worker,
+            requested: params.clone(),
+            params,
+            status: SolveStatus::Starting,
+            convergence: Vec::new(),
+            markers: vec![(0.0, "start".into())],
+            reports: Vec::new(),
+            error: None,
+            change_time: Some(Instant::now()),
+            last_latency: None,
+        }
+    }
+
+    /// The worker, for the states that send it requests (fields, probes, recordings).
+    pub fn worker(&mut self) -> &mut Worker {
+        &mut self.worker
+    }
+
+    /// Parameter values shown by the controls.
+    pub fn params(&self) -> &Params {
+        &self.params
+    }
+
+    /// The controls' values, to edit: a change launches a re-solve at the end of the frame
+    /// ([`SolveView::resolve_if_changed`]).
+    pub fn params_mut(&mut self) -> &mut Params {
+        &mut self.params
+    }
+
+    /// Parameter values of the newest solve requested.
+    pub fn requested(&self) -> &Params {
+        &self.requested
+    }
+
+    /// Where the solver stands.
+    pub fn status(&self) -> &SolveStatus {
+        &self.status
+    }
+
+    /// Every η so far: (cumulative iteration, η).
+    pub fn convergence(&self) -> &[[f64; 2]] {
+        &self.convergence
+    }
+
+    /// Parameter changes: (cumulative iteration, description); the first is the start.
+    pub fn markers(&self) -> &[(f64, String)] {
+        &self.markers
+    }
+
+    /// Reports of the finished solves, oldest first.
+    pub fn reports(&self) -> &[SolveReport] {
+        &self.reports
+    }
+
+    /// Last error message (bad parameter, failed load, recording).
+    pub fn error(&self) -> Option<&str> {
+        self.error.as_deref()
+    }
+
+    /// Shows an error message until the next parameter change.
+    pub fn set_error(&mut self, message: String) {
+        self.error = Some(message);
+    }
+
+    /// Seconds from the newest parameter change to its converged solve.
+    pub fn last_latency(&self) -> Option<f64> {
+        self.last_latency
+    }
+
+    /// Generation of the newest parameter change.
+    pub fn generation(&self) -> u64 {
+        self.worker.generation()
+    }
+
+    /// Whether the newest request has converged.
+    pub fn converged(&self) -> bool {
+        matches!(&self.status, SolveStatus::Done(r)
+            if r.converged && r.generation == self.worker.generation())
+    }
+
+    /// Whether the newest request is still being solved.
+    pub fn busy(&self) -> bool {
+        !matches!(&self.status, SolveStatus::Done(r) if r.generation == self.worker.generation())
+            && !matches!(self.status, SolveStatus::Failed(_))
+    }
+
+    /// Generation of the newest solve that ended without being cancelled (0: none yet).
+    pub fn last_done_generation(&self) -> u64 {
+        self.reports
+            .iter()
+            .rev()
+            .find(|r| !r.cancelled)
+            .map_or(0, |r| r.generation)
+    }
+
+    /// Whether the solver runs on the UI thread (browser) and needs another frame to go on.
+    pub fn needs_frames(&self) -> bool {
+        self.worker.needs_frames()
+    }
+
+    /// Launches a warm re-solve if the controls moved since the newest request (a running
+    /// solve is cancelled and the new one starts from its newest iterate).
+    pub fn resolve_if_changed(&mut self) {
+        if self.params == self.requested {
+            return;
+        }
+        let what = self.params.describe_change(&self.requested);
+        self.markers.push((self.convergence.len() as f64, what));
+        self.requested = self.params.clone();
+        self.worker.solve(self.params.clone());
+        self.change_time = Some(Instant::now());
+        self.last_latency = None;
+        self.error = None;
+    }
+
+    /// Receives the worker's events: η, status and reports stay here, fields, contact
+    /// histories and probes go to `cache`, recording outcomes to `recording`, finished solves
+    /// to `measure`.
+    pub fn apply_events(
+        &mut self,
+        cache: &mut FieldCache,
+        recording: &mut Recording,
+        mut measure: Option<&mut Measure>,
+    ) {
+        for e in self.worker.poll() {
+            self.apply(e, cache, recording, measure.as_deref_mut());
+        }
+    }
+
+    fn apply(
+        &mut self,
+        e: Event,
+        cache: &mut FieldCache,
+        recording: &mut Recording,
+        measure: Option<&mut Measure>,
+    ) {
+        let newest = self.worker.generation();
+        match e {
+            Event::Progress { generation, eta } => {
+                self.convergence
+                    .push([self.convergence.len() as f64 + 1.0, eta]);
+                let iterations = match &self.status {
+                    SolveStatus::Running {
+                        generation: g,
+                        iterations,
+                        ..
+                    } if *g == generation => iterations + 1,
+                    _ => 1,
+                };
+                if generation == newest {
+                    self.status = SolveStatus::Running {
+                        generation,
+                        iterations,
+                        eta,
+                    };
+                }
+            }
+            Event::Fields(f) => cache.receive_fields(f, newest),
+            Event::Contact {
+                generation,
+                histories,
+            } => {
+                if generation == newest {
+                    cache.receive_contact(histories);
+                }
+            }
+            Event::Finished(report) => {
+                if report.generation == newest {
+                    if report.converged {
+                        self.last_latency = self.change_time.map(|t| t.elapsed().as_secs_f64());
+                    }
+                    cache.solve_finished(&mut self.worker);
+                    self.status = SolveStatus::Done(report.clone());
+                }
+                if let Some(m) = measure {
+                    m.on_finished(&report, self.last_latency);
+                }
+                self.reports.push(report);
+            }
+            Event::Probe(p) => cache.receive_probe(p),
+            Event::Recorded { target, .. } => recording.recorded(target),
+            Event::RecordFailed(msg) => self.error = Some(format!("recording: {msg}")),
+            Event::Error(msg) => {
+                self.error = Some(msg.clone());
+                self.status = SolveStatus::Failed(msg);
+            }
+        }
+    }
+}
