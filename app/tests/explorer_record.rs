@@ -23,8 +23,8 @@ fn step_until(
         assert!(
             start.elapsed() < Duration::from_secs(180),
             "{what}: status {:?}, error {:?}",
-            h.state().status,
-            h.state().error
+            h.state().solve.status(),
+            h.state().solve.error()
         );
         std::thread::sleep(Duration::from_millis(10));
     }
@@ -44,24 +44,24 @@ fn the_toggle_records_converged_solves_to_a_file_the_rerun_tool_reads() {
         .with_size(egui::vec2(1400.0, 860.0))
         .wgpu()
         .build_eframe(move |cc| ExplorerApp::new(cc, options).expect("the scene loads"));
-    step_until(&mut h, "first solve", ExplorerApp::converged);
+    step_until(&mut h, "first solve", |a| a.solve.converged());
     h.get_by_label("record to Rerun").click();
     h.step();
-    step_until(&mut h, "first recorded", |a| a.recorded_solves == 1);
-    let f0 = h.state().params.friction.expect("contact");
+    step_until(&mut h, "first recorded", |a| a.recording.solves() == 1);
+    let f0 = h.state().solve.params().friction.expect("contact");
     h.get_by_role_and_label(Role::Slider, "friction f")
         .set_value_accesskit(f0 + 0.05);
     h.step();
-    step_until(&mut h, "second recorded", |a| a.recorded_solves == 2);
-    let iterations: usize = h.state().reports.iter().map(|r| r.iterations).sum();
+    step_until(&mut h, "second recorded", |a| a.recording.solves() == 2);
+    let iterations: usize = h.state().solve.reports().iter().map(|r| r.iterations).sum();
     assert_eq!(
-        h.state().recording_target.as_deref(),
+        h.state().recording.target(),
         Some(file.display().to_string().as_str())
     );
     // off: the file is complete
     h.get_by_label("record to Rerun").click();
     h.step();
-    assert!(!h.state().recording);
+    assert!(!h.state().recording.is_on());
     let steps = h.state().info.steps + 1;
     drop(h);
 

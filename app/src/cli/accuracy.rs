@@ -15,13 +15,16 @@ use std::process::ExitCode;
 
 use anyhow::Context;
 use clap::Args;
-use lopin_core::compare::compare;
 use lopin_core::counters::Instant;
-use lopin_core::monolithic::Monolithic;
 use lopin_core::{post, Settings, Solution, Solver};
+use lopin_reference::compare::compare;
+use lopin_reference::exact::{l2_error, BarExact};
+use lopin_reference::monolithic::Monolithic;
+
+use serde::Serialize;
 
 use super::accuracy_plot;
-use super::bar_exact::{l2_error, BarExact};
+use super::report::column_table;
 use super::setup::{build, SceneArgs};
 
 #[derive(Debug, Args)]
@@ -176,7 +179,7 @@ pub fn accuracy(args: &AccuracyArgs) -> anyhow::Result<ExitCode> {
     }
 
     let csv = out.join("accuracy.csv");
-    std::fs::write(&csv, to_csv(&built.spec.name, args.scene.refine, &points))
+    write_csv(&csv, &built.spec.name, args.scene.refine, &points)
         .with_context(|| format!("writing {}", csv.display()))?;
     let png = out.join("accuracy.png");
     let title = format!(
@@ -191,41 +194,65 @@ pub fn accuracy(args: &AccuracyArgs) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-fn to_csv(scene: &str, refine: usize, points: &[Point]) -> String {
-    let mut s =
-        String::from("scene,refine,method,tol,iterations,eta,time_s,error_reference,error_exact\n");
+/// One row of accuracy.csv (numbers formatted as they always were: `{:e}`, time `{:.6}`).
+#[derive(Serialize)]
+struct CsvRow<'a> {
+    scene: &'a str,
+    refine: usize,
+    method: &'a str,
+    tol: String,
+    iterations: usize,
+    eta: String,
+    time_s: String,
+    error_reference: String,
+    error_exact: String,
+}
+
+fn write_csv(
+    path: &std::path::Path,
+    scene: &str,
+    refine: usize,
+    points: &[Point],
+) -> anyhow::Result<()> {
+    let mut w = csv::Writer::from_path(path)?;
     for p in points {
-        s.push_str(&format!(
-            "{scene},{refine},{},{},{},{:e},{:.6},{:e},{}\n",
-            p.method,
-            p.tol.map_or(String::new(), |t| format!("{t:e}")),
-            p.iterations,
-            p.eta,
-            p.time_s,
-            p.error_reference,
-            p.error_exact.map_or(String::new(), |e| format!("{e:e}")),
-        ));
+        w.serialize(CsvRow {
+            scene,
+            refine,
+            method: p.method,
+            tol: p.tol.map_or(String::new(), |t| format!("{t:e}")),
+            iterations: p.iterations,
+            eta: format!("{:e}", p.eta),
+            time_s: format!("{:.6}", p.time_s),
+            error_reference: format!("{:e}", p.error_reference),
+            error_exact: p.error_exact.map_or(String::new(), |e| format!("{e:e}")),
+        })?;
     }
-    s
+    w.flush()?;
+    Ok(())
 }
 
 fn table(points: &[Point]) -> String {
-    let mut s = format!(
-        "{:<18} {:>8} {:>10} {:>10} {:>10} {:>12} {:>12}\n",
-        "method", "tol", "iterations", "eta", "time_s", "err_ref", "err_exact"
-    );
+    let mut t = column_table([
+        "method",
+        "tol",
+        "iterations",
+        "eta",
+        "time_s",
+        "err_ref",
+        "err_exact",
+    ]);
     for p in points {
-        s.push_str(&format!(
-            "{:<18} {:>8} {:>10} {:>10.2e} {:>10.3} {:>12.3e} {:>12}\n",
-            p.method,
+        t.add_row([
+            p.method.to_string(),
             p.tol.map_or("-".to_string(), |t| format!("{t:.0e}")),
-            p.iterations,
-            p.eta,
-            p.time_s,
-            p.error_reference,
+            p.iterations.to_string(),
+            format!("{:.2e}", p.eta),
+            format!("{:.3}", p.time_s),
+            format!("{:.3e}", p.error_reference),
             p.error_exact
                 .map_or("-".to_string(), |e| format!("{e:.3e}")),
-        ));
+        ]);
     }
-    s
+    format!("{}\n", t.trim_fmt())
 }

@@ -1,12 +1,13 @@
 //! `lopin bench`: setup time, time per iteration and the time of the triangular solves alone
 //! on `two-blocks` at refine 1 and 2, so the overhead ratio (iteration / triangular solves) is
-//! visible. Ratios are measured within one run.
+//! visible. Ratios are measured within one run; the table (comfy-table) is printed at the end.
 
 use std::process::ExitCode;
 
 use clap::Args;
 use lopin_core::counters::Instant;
 
+use super::report::column_table;
 use super::setup::{prepare, SceneArgs};
 
 #[derive(Debug, Args)]
@@ -26,10 +27,16 @@ pub struct BenchArgs {
 }
 
 pub fn bench(args: &BenchArgs) -> anyhow::Result<ExitCode> {
-    println!(
-        "{:<12} {:>7} {:>8} {:>8} {:>10} {:>12} {:>12} {:>9}",
-        "scene", "refine", "dofs", "subs", "setup_s", "iter_ms", "trisolve_ms", "overhead"
-    );
+    let mut table = column_table([
+        "scene",
+        "refine",
+        "dofs",
+        "subs",
+        "setup_s",
+        "iter_ms",
+        "trisolve_ms",
+        "overhead",
+    ]);
     for &refine in &args.refine {
         let sargs = SceneArgs {
             scene: args.scene.clone(),
@@ -54,18 +61,19 @@ pub fn bench(args: &BenchArgs) -> anyhow::Result<ExitCode> {
         let iter_s = start.elapsed().as_secs_f64() / sol.iterations as f64;
         let tri_s = triangular_solves(solver);
         let p = solver.problem();
-        println!(
-            "{:<12} {:>7} {:>8} {:>8} {:>10.3} {:>12.2} {:>12.2} {:>9.2}",
-            p.name,
-            refine,
-            p.dof_count(),
-            p.subs.len(),
-            setup,
-            1e3 * iter_s,
-            1e3 * tri_s,
-            iter_s / tri_s
-        );
+        table.add_row([
+            p.name.clone(),
+            refine.to_string(),
+            p.dof_count().to_string(),
+            p.subs.len().to_string(),
+            format!("{setup:.3}"),
+            format!("{:.2}", 1e3 * iter_s),
+            format!("{:.2}", 1e3 * tri_s),
+            format!("{:.2}", iter_s / tri_s),
+        ]);
+        eprintln!("refine {refine}: done");
     }
+    println!("{}", table.trim_fmt());
     Ok(ExitCode::SUCCESS)
 }
 

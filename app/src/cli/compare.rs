@@ -5,13 +5,13 @@ use std::process::ExitCode;
 
 use anyhow::Context;
 use clap::Args;
-use lopin_core::compare::compare;
 use lopin_core::counters::Instant;
 use lopin_core::{post, Solver};
-use serde_json::json;
+use lopin_reference::compare::compare;
+use serde::Serialize;
 
-use super::reference::ReferenceRun;
-use super::report::{row, RunReport};
+use super::reference::{MonolithicReport, ReferenceRun};
+use super::report::{Latin, Rows, RunReport, SolveReport};
 use super::setup::{build, SceneArgs};
 
 /// Options of `lopin compare`.
@@ -42,50 +42,61 @@ pub fn compare_cmd(args: &CompareArgs) -> anyhow::Result<ExitCode> {
         &reference.solution,
     );
     if args.json {
-        let out = json!({
-            "scene": built.spec.name,
-            "rel_diff_velocity": c.rel_diff_velocity,
-            "rel_diff_force": c.rel_diff_force,
-            "max_velocity": c.max_velocity,
-            "max_force": c.max_force,
-            "latin": latin.to_json(),
-            "reference": reference.to_json(),
-        });
+        let out = CompareReport {
+            scene: built.spec.name.clone(),
+            rel_diff_velocity: c.rel_diff_velocity,
+            rel_diff_force: c.rel_diff_force,
+            max_velocity: c.max_velocity,
+            max_force: c.max_force,
+            latin: latin.report(),
+            reference: reference.report(),
+        };
         println!("{}", serde_json::to_string_pretty(&out)?);
     } else {
-        print!(
-            "{}{}{}{}",
-            row(
-                "LATIN",
-                format!(
-                    "{} iterations, eta {:.2e}, {:.3} s",
-                    solution.iterations, solution.eta, latin_s
-                )
-            ),
-            row(
-                "reference",
-                format!(
-                    "{} contact sweeps, {:.3} s",
-                    reference.solution.sweeps,
-                    reference.time_s()
-                )
-            ),
-            row(
-                "rel_diff_velocity",
-                format!(
-                    "{:.3e} (max |v| {:.4e} m/s)",
-                    c.rel_diff_velocity, c.max_velocity
-                )
-            ),
-            row(
-                "rel_diff_force",
-                format!("{:.3e} (max |F| {:.4e} N)", c.rel_diff_force, c.max_force)
+        let mut rows = Rows::default();
+        rows.row(
+            "LATIN",
+            format!(
+                "{} iterations, eta {:.2e}, {:.3} s",
+                solution.iterations, solution.eta, latin_s
             ),
         );
+        rows.row(
+            "reference",
+            format!(
+                "{} contact sweeps, {:.3} s",
+                reference.solution.sweeps,
+                reference.time_s()
+            ),
+        );
+        rows.row(
+            "rel_diff_velocity",
+            format!(
+                "{:.3e} (max |v| {:.4e} m/s)",
+                c.rel_diff_velocity, c.max_velocity
+            ),
+        );
+        rows.row(
+            "rel_diff_force",
+            format!("{:.3e} (max |F| {:.4e} N)", c.rel_diff_force, c.max_force),
+        );
+        print!("{rows}");
     }
     Ok(if solution.converged {
         ExitCode::SUCCESS
     } else {
         ExitCode::from(1)
     })
+}
+
+/// The `--json` object of `lopin compare`: the differences, then both reports.
+#[derive(Debug, Serialize)]
+struct CompareReport {
+    scene: String,
+    rel_diff_velocity: f64,
+    rel_diff_force: f64,
+    max_velocity: f64,
+    max_force: f64,
+    latin: SolveReport<Latin>,
+    reference: SolveReport<MonolithicReport>,
 }

@@ -5,6 +5,7 @@
 use clap::Args;
 use lopin_core::estimate::Estimate;
 use lopin_core::Solver;
+use serde::Serialize;
 
 use super::setup::{build, SceneArgs};
 
@@ -23,13 +24,13 @@ pub fn estimate(args: &EstimateArgs) -> anyhow::Result<std::process::ExitCode> {
     let solver = Solver::new(built.problem, built.settings)?;
     let e = Estimate::of_solver(&solver);
     if args.json {
-        let mut json = serde_json::to_value(&e)?;
-        json["total_bytes"] = serde_json::json!(e.total_bytes());
-        json["setup_s"] = serde_json::json!(solver.counters().setup_s + built.build_s);
-        if let Some(mp) = solver.macro_problem() {
-            json["macro_dofs"] = serde_json::json!(mp.size);
-            json["homogenized_operators"] = serde_json::json!(mp.classes.count());
-        }
+        let json = EstimateReport {
+            estimate: &e,
+            total_bytes: e.total_bytes(),
+            setup_s: solver.counters().setup_s + built.build_s,
+            macro_dofs: solver.macro_problem().map(|mp| mp.size),
+            homogenized_operators: solver.macro_problem().map(|mp| mp.classes.count()),
+        };
         println!("{}", serde_json::to_string_pretty(&json)?);
     } else {
         println!("{} ({})", built.spec.name, args.scene.scene);
@@ -56,4 +57,18 @@ pub fn estimate(args: &EstimateArgs) -> anyhow::Result<std::process::ExitCode> {
         );
     }
     Ok(std::process::ExitCode::SUCCESS)
+}
+
+/// The `--json` object: the core's estimate and what only the solver knows.
+#[derive(Serialize)]
+struct EstimateReport<'a> {
+    #[serde(flatten)]
+    estimate: &'a Estimate,
+    total_bytes: usize,
+    setup_s: f64,
+    /// Two-scale only.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    macro_dofs: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    homogenized_operators: Option<usize>,
 }

@@ -2,7 +2,6 @@
 
 mod accuracy;
 mod accuracy_plot;
-mod bar_exact;
 mod bench;
 mod compare;
 mod estimate;

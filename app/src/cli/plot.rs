@@ -5,6 +5,7 @@
 use std::path::Path;
 
 use anyhow::anyhow;
+use lopin_core::Parameter;
 use plotters::prelude::*;
 use plotters::style::{register_font, FontStyle};
 
@@ -22,8 +23,9 @@ pub(super) fn err<E: std::fmt::Debug>(e: E) -> anyhow::Error {
 }
 
 /// η against cumulative iterations, warm sweep (and the cold solves, if recorded, in grey).
-pub fn convergence(path: &Path, records: &[ValueRecord], param: &str) -> anyhow::Result<()> {
+pub fn convergence(path: &Path, records: &[ValueRecord], param: Parameter) -> anyhow::Result<()> {
     fonts();
+    let param = param.name();
     let mut warm = Vec::new();
     let mut changes = Vec::new();
     let mut it = 0usize;
@@ -92,8 +94,9 @@ pub fn convergence(path: &Path, records: &[ValueRecord], param: &str) -> anyhow:
 type Panel = (&'static str, fn(&ValueRecord) -> f64);
 
 /// Peak normal force, max slip and end energy against the parameter (three panels).
-pub fn quantities(path: &Path, records: &[ValueRecord], param: &str) -> anyhow::Result<()> {
+pub fn quantities(path: &Path, records: &[ValueRecord], param: Parameter) -> anyhow::Result<()> {
     fonts();
+    let param = param.name();
     let root = BitMapBackend::new(path, (1200, 400)).into_drawing_area();
     root.fill(&WHITE).map_err(err)?;
     let panels = root.split_evenly((1, 3));

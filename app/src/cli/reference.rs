@@ -5,13 +5,14 @@ use std::process::ExitCode;
 
 use clap::Args;
 use lopin_core::counters::Instant;
-use lopin_core::monolithic::{MonoSolution, Monolithic};
 use lopin_core::post::Summary;
 use lopin_core::Problem;
-use serde_json::{json, Value};
+use lopin_reference::monolithic::{MonoSolution, Monolithic};
+use serde::Serialize;
 
-use super::report::{contact_json, energy_json, row, summary_rows};
+use super::report::{Rows, SolveReport, Stages};
 use super::setup::{build, SceneArgs};
+use crate::run_dir::run_json::ProblemFacts;
 
 /// Options of `lopin reference`.
 #[derive(Debug, Args)]
@@ -68,87 +69,101 @@ impl ReferenceRun {
         self.setup_s + self.solve_s
     }
 
-    pub fn to_json(&self) -> Value {
+    /// The `--json` object, in the shape of `lopin run`'s.
+    pub fn report(&self) -> SolveReport<MonolithicReport> {
         let p = self.reference.problem();
         let (assembled, free) = self.reference.dofs();
         let sol = &self.solution;
         let c = self.reference.controls;
-        json!({
-            "scene": self.scene,
-            "solver": "monolithic",
-            "substructures": p.subs.len(),
-            "interfaces": p.interfaces.len(),
-            "contact_interfaces": p.contact_count(),
-            "dofs": p.dof_count(),
-            "assembled_dofs": assembled,
-            "free_dofs": free,
-            "contact_pairs": self.reference.assembled().pairs.len(),
-            "steps": p.time.steps,
-            "dt": p.time.dt,
-            "settings": { "contact_tol": c.tol, "max_sweeps": c.max_sweeps },
-            // one factorization of the assembled operator, no macro problem
-            "factorizations": 1,
-            "macro_dofs": null,
-            "peak_memory_bytes": super::report::peak_memory_bytes(),
-            "iterations": sol.sweeps,
-            "max_sweeps_per_step": sol.max_sweeps,
-            "eta": sol.contact_change,
-            "converged": true,
-            "wall_s": self.time_s() + self.post_s,
-            "stages_s": {
-                "setup": self.setup_s,
-                "local": sol.contact_s,
-                "linear": sol.solve_s,
-                "post": self.post_s,
+        SolveReport {
+            scene: self.scene.clone(),
+            solver: "monolithic",
+            sizes: ProblemFacts::of(p),
+            method: MonolithicReport {
+                assembled_dofs: assembled,
+                free_dofs: free,
+                contact_pairs: self.reference.assembled().pairs.len(),
+                settings: MonolithicSettings {
+                    contact_tol: c.tol,
+                    max_sweeps: c.max_sweeps,
+                },
+                max_sweeps_per_step: sol.max_sweeps,
             },
-            "energy": energy_json(&self.summary),
-            "contact": contact_json(&self.summary),
-        })
+            // one factorization of the assembled operator, no macro problem
+            factorizations: 1,
+            macro_dofs: None,
+            peak_memory_bytes: super::report::peak_memory_bytes(),
+            iterations: sol.sweeps,
+            eta: sol.contact_change,
+            converged: true,
+            wall_s: self.time_s() + self.post_s,
+            stages_s: Stages {
+                setup: self.setup_s,
+                local: sol.contact_s,
+                linear: sol.solve_s,
+                macro_s: None,
+                post: self.post_s,
+            },
+            energy: (&self.summary).into(),
+            contact: (&self.summary).into(),
+        }
     }
 
-    pub fn table(&self) -> String {
+    /// The summary rows.
+    pub fn rows(&self) -> Rows {
         let p = self.reference.problem();
         let (assembled, free) = self.reference.dofs();
         let sol = &self.solution;
-        let mut out = String::new();
-        out.push_str(&row(
-            "scene",
-            format!("{} (monolithic reference)", self.scene),
-        ));
-        out.push_str(&row(
+        let mut rows = Rows::default();
+        rows.row("scene", format!("{} (monolithic reference)", self.scene));
+        rows.row(
             "dofs (assembled, free)",
             format!("{} ({assembled}, {free})", p.dof_count()),
-        ));
-        out.push_str(&row(
-            "contact pairs",
-            self.reference.assembled().pairs.len().to_string(),
-        ));
-        out.push_str(&row(
+        );
+        rows.row("contact pairs", self.reference.assembled().pairs.len());
+        rows.row(
             "steps x dt",
             format!("{} x {:.3e} s", p.time.steps, p.time.dt),
-        ));
-        out.push_str(&row(
+        );
+        rows.row(
             "contact sweeps",
             format!(
                 "{} (max {} per step, last change {:.1e})",
                 sol.sweeps, sol.max_sweeps, sol.contact_change
             ),
-        ));
-        out.push_str(&row("time setup", format!("{:.3} s", self.setup_s)));
-        out.push_str(&row("time solves", format!("{:.3} s", sol.solve_s)));
-        out.push_str(&row("time contact", format!("{:.3} s", sol.contact_s)));
-        out.push_str(&row("time post", format!("{:.3} s", self.post_s)));
-        out.push_str(&summary_rows(&self.summary));
-        out
+        );
+        rows.row("time setup", format!("{:.3} s", self.setup_s));
+        rows.row("time solves", format!("{:.3} s", sol.solve_s));
+        rows.row("time contact", format!("{:.3} s", sol.contact_s));
+        rows.row("time post", format!("{:.3} s", self.post_s));
+        rows.summary(&self.summary);
+        rows
     }
+}
+
+/// What only a reference report holds: the assembled sizes and the contact solver's controls.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct MonolithicReport {
+    pub assembled_dofs: usize,
+    pub free_dofs: usize,
+    pub contact_pairs: usize,
+    pub settings: MonolithicSettings,
+    pub max_sweeps_per_step: usize,
+}
+
+/// The contact solver's controls of a reference report.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct MonolithicSettings {
+    pub contact_tol: f64,
+    pub max_sweeps: usize,
 }
 
 pub fn reference(args: &ReferenceArgs) -> anyhow::Result<ExitCode> {
     let run = ReferenceRun::new(&args.scene)?;
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&run.to_json())?);
+        println!("{}", serde_json::to_string_pretty(&run.report())?);
     } else {
-        print!("{}", run.table());
+        print!("{}", run.rows());
     }
     Ok(ExitCode::SUCCESS)
 }

@@ -1,9 +1,106 @@
-//! The report of a run: the JSON object of `lopin run --json` and the human summary table.
+//! The reports of a solve, shared by `lopin run`, `lopin reference` and `lopin compare`: one set
+//! of `Serialize` types for their `--json` objects ([`SolveReport`], generic over the part that
+//! depends on the method, so the common shape of a LATIN and a reference report is one type),
+//! and the key–value summary tables (comfy-table) with the energy and contact rows they share.
 
+use comfy_table::{presets, CellAlignment, Table};
 use lopin_core::post::Summary;
 use lopin_core::scene::SceneSpec;
 use lopin_core::{Solution, Solver};
-use serde_json::{json, Value};
+use serde::Serialize;
+
+use crate::run_dir::run_json::ProblemFacts;
+
+/// The `--json` object of a solve: the fields every solver reports, plus the method's own
+/// (`M`: its settings and sizes, flattened into the same object).
+#[derive(Debug, Clone, Serialize)]
+pub struct SolveReport<M> {
+    pub scene: String,
+    /// "latin" or "monolithic".
+    pub solver: &'static str,
+    #[serde(flatten)]
+    pub sizes: ProblemFacts,
+    #[serde(flatten)]
+    pub method: M,
+    pub factorizations: usize,
+    pub macro_dofs: Option<usize>,
+    pub peak_memory_bytes: Option<u64>,
+    pub iterations: usize,
+    pub eta: f64,
+    pub converged: bool,
+    pub wall_s: f64,
+    pub stages_s: Stages,
+    pub energy: Energy,
+    pub contact: Contact,
+}
+
+/// Seconds per stage of a solve.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct Stages {
+    pub setup: f64,
+    pub local: f64,
+    pub linear: f64,
+    /// Of the linear stage, the macro problem (LATIN only).
+    #[serde(rename = "macro", skip_serializing_if = "Option::is_none")]
+    pub macro_s: Option<f64>,
+    pub post: f64,
+}
+
+/// The "energy" object of a report.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct Energy {
+    pub kinetic_end: f64,
+    pub strain_end: f64,
+    pub input_work: f64,
+    pub max_total_over_input: f64,
+}
+
+/// The "contact" object of a report.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct Contact {
+    pub max_slip: f64,
+    pub peak_normal_force: f64,
+    pub min_gap: Option<f64>,
+}
+
+impl From<&Summary> for Energy {
+    fn from(s: &Summary) -> Self {
+        Energy {
+            kinetic_end: s.kinetic_end,
+            strain_end: s.strain_end,
+            input_work: s.input_work,
+            max_total_over_input: s.max_total_over_input,
+        }
+    }
+}
+
+impl From<&Summary> for Contact {
+    fn from(s: &Summary) -> Self {
+        Contact {
+            max_slip: s.max_slip,
+            peak_normal_force: s.peak_normal_force,
+            min_gap: s.min_gap,
+        }
+    }
+}
+
+/// What only a LATIN report holds.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct Latin {
+    pub settings: LatinSettings,
+}
+
+/// The LATIN settings of a report.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct LatinSettings {
+    pub k: f64,
+    pub mu: f64,
+    pub tol: f64,
+    pub max_iter: usize,
+    pub window: Option<usize>,
+    #[serde(rename = "macro")]
+    pub two_scale: bool,
+}
 
 /// Everything a run reports.
 pub struct RunReport<'a> {
@@ -31,76 +128,78 @@ impl<'a> RunReport<'a> {
         }
     }
 
-    pub fn to_json(&self) -> Value {
-        let macro_s = self.macro_seconds();
-        let p = self.solver.problem();
+    /// The `--json` object.
+    pub fn report(&self) -> SolveReport<Latin> {
         let set = self.solver.settings();
         let st = self.solver.counters().stage_times();
-        let s = self.summary;
-        json!({
-            "scene": self.spec.name,
-            "solver": "latin",
-            "substructures": p.subs.len(),
-            "interfaces": p.interfaces.len(),
-            "contact_interfaces": p.contact_count(),
-            "dofs": p.dof_count(),
-            "steps": p.time.steps,
-            "dt": p.time.dt,
-            "settings": {
-                "k": set.k, "mu": set.mu, "tol": set.tol, "max_iter": set.max_iter,
-                "window": set.window, "macro": set.two_scale,
+        SolveReport {
+            scene: self.spec.name.clone(),
+            solver: "latin",
+            sizes: ProblemFacts::of(self.solver.problem()),
+            method: Latin {
+                settings: LatinSettings {
+                    k: set.k,
+                    mu: set.mu,
+                    tol: set.tol,
+                    max_iter: set.max_iter,
+                    window: set.window,
+                    two_scale: set.two_scale,
+                },
             },
-            "factorizations": self.solver.factors().len(),
-            "macro_dofs": self.solver.macro_problem().filter(|_| set.two_scale).map(|m| m.size),
-            "peak_memory_bytes": peak_memory_bytes(),
-            "iterations": self.solution.iterations,
-            "eta": self.solution.eta,
-            "converged": self.solution.converged,
-            "wall_s": self.wall_s,
-            "stages_s": {
-                "setup": st.setup, "local": st.local, "linear": st.linear, "macro": macro_s,
-                "post": st.post,
+            factorizations: self.solver.factors().len(),
+            macro_dofs: self.macro_dofs(),
+            peak_memory_bytes: peak_memory_bytes(),
+            iterations: self.solution.iterations,
+            eta: self.solution.eta,
+            converged: self.solution.converged,
+            wall_s: self.wall_s,
+            stages_s: Stages {
+                setup: st.setup,
+                local: st.local,
+                linear: st.linear,
+                macro_s: Some(self.macro_seconds()),
+                post: st.post,
             },
-            "energy": energy_json(s),
-            "contact": contact_json(s),
-        })
+            energy: self.summary.into(),
+            contact: self.summary.into(),
+        }
     }
 
-    pub fn table(&self) -> String {
+    /// The summary rows (sizes, settings, iterations, times, energy and contact).
+    pub fn rows(&self) -> Rows {
         let p = self.solver.problem();
         let set = self.solver.settings();
         let st = self.solver.counters().stage_times();
         let sol = self.solution;
-        let mut out = String::new();
-        let mut row = |k: &str, v: String| out.push_str(&row(k, v));
-        row("scene", self.spec.name.clone());
-        row("substructures", p.subs.len().to_string());
-        row(
+        let mut rows = Rows::default();
+        rows.row("scene", &self.spec.name);
+        rows.row("substructures", p.subs.len());
+        rows.row(
             "interfaces (contact)",
             format!("{} ({})", p.interfaces.len(), p.contact_count()),
         );
-        row("dofs", p.dof_count().to_string());
-        row(
+        rows.row("dofs", p.dof_count());
+        rows.row(
             "steps x dt",
             format!("{} x {:.3e} s", p.time.steps, p.time.dt),
         );
-        row(
+        rows.row(
             "k, mu, tol",
             format!("{:.4e} Pa.s/m, {}, {:.0e}", set.k, set.mu, set.tol),
         );
-        row(
+        rows.row(
             "window",
             set.window
                 .map_or("whole interval".to_string(), |w| format!("{w} steps")),
         );
-        row(
+        rows.row(
             "linear stage",
-            match self.solver.macro_problem().filter(|_| set.two_scale) {
-                Some(mp) => format!("two-scale ({} macro dofs)", mp.size),
+            match self.macro_dofs() {
+                Some(n) => format!("two-scale ({n} macro dofs)"),
                 None => "single-scale".into(),
             },
         );
-        row(
+        rows.row(
             "factorizations",
             format!(
                 "{} distinct for {} substructures",
@@ -108,7 +207,7 @@ impl<'a> RunReport<'a> {
                 p.subs.len()
             ),
         );
-        row(
+        rows.row(
             "iterations",
             format!(
                 "{}{}",
@@ -120,24 +219,31 @@ impl<'a> RunReport<'a> {
                 }
             ),
         );
-        row("eta", format!("{:.3e}", sol.eta));
-        row("time setup", format!("{:.3} s", st.setup));
-        row("time local stage", format!("{:.3} s", st.local));
-        row("time linear stage", format!("{:.3} s", st.linear));
+        rows.row("eta", format!("{:.3e}", sol.eta));
+        rows.row("time setup", format!("{:.3} s", st.setup));
+        rows.row("time local stage", format!("{:.3} s", st.local));
+        rows.row("time linear stage", format!("{:.3} s", st.linear));
         if set.two_scale {
-            row("  of which macro", format!("{:.3} s", self.macro_seconds()));
+            rows.row("  of which macro", format!("{:.3} s", self.macro_seconds()));
         }
-        row("time post", format!("{:.3} s", st.post));
-        row("wall time", format!("{:.3} s", self.wall_s));
+        rows.row("time post", format!("{:.3} s", st.post));
+        rows.row("wall time", format!("{:.3} s", self.wall_s));
         if let Some(b) = peak_memory_bytes() {
-            row("peak memory", lopin_core::estimate::bytes(b as usize));
+            rows.row("peak memory", lopin_core::estimate::bytes(b as usize));
         }
-        out.push_str(&summary_rows(self.summary));
-        out
+        rows.summary(self.summary);
+        rows
     }
-}
 
-impl RunReport<'_> {
+    /// Size of the macro problem when the linear stage is two-scale.
+    fn macro_dofs(&self) -> Option<usize> {
+        let two_scale = self.solver.settings().two_scale;
+        self.solver
+            .macro_problem()
+            .filter(|_| two_scale)
+            .map(|m| m.size)
+    }
+
     /// Seconds in the macro problem (right-hand sides and solves) over the solve.
     fn macro_seconds(&self) -> f64 {
         self.solver
@@ -157,53 +263,78 @@ pub fn peak_memory_bytes() -> Option<u64> {
     Some(kib * 1024)
 }
 
-/// The "energy" object of a report.
-pub fn energy_json(s: &Summary) -> Value {
-    json!({
-        "kinetic_end": s.kinetic_end,
-        "strain_end": s.strain_end,
-        "input_work": s.input_work,
-        "max_total_over_input": s.max_total_over_input,
-    })
-}
+/// The rows of a key–value summary table.
+#[derive(Debug, Clone, Default)]
+pub struct Rows(Vec<(String, String)>);
 
-/// The "contact" object of a report.
-pub fn contact_json(s: &Summary) -> Value {
-    json!({
-        "max_slip": s.max_slip,
-        "peak_normal_force": s.peak_normal_force,
-        "min_gap": s.min_gap,
-    })
-}
-
-/// One table row.
-pub fn row(k: &str, v: String) -> String {
-    format!("  {k:<26} {v}\n")
-}
-
-/// The energy and contact rows of a summary table.
-pub fn summary_rows(s: &Summary) -> String {
-    let mut out = String::new();
-    out.push_str(&row(
-        "kinetic energy (end)",
-        format!("{:.4e} J", s.kinetic_end),
-    ));
-    out.push_str(&row(
-        "strain energy (end)",
-        format!("{:.4e} J", s.strain_end),
-    ));
-    out.push_str(&row("input work", format!("{:.4e} J", s.input_work)));
-    out.push_str(&row(
-        "max E/(E0 + input)",
-        format!("{:.6}", s.max_total_over_input),
-    ));
-    if let Some(g) = s.min_gap {
-        out.push_str(&row(
-            "contact: peak normal force",
-            format!("{:.4e} N", s.peak_normal_force),
-        ));
-        out.push_str(&row("contact: max slip", format!("{:.4e} m", s.max_slip)));
-        out.push_str(&row("contact: min gap", format!("{g:.4e} m")));
+impl Rows {
+    /// Appends one row.
+    pub fn row(&mut self, key: impl Into<String>, value: impl ToString) {
+        self.0.push((key.into(), value.to_string()));
     }
-    out
+
+    /// The energy and contact rows of a summary.
+    pub fn summary(&mut self, s: &Summary) {
+        self.row("kinetic energy (end)", format!("{:.4e} J", s.kinetic_end));
+        self.row("strain energy (end)", format!("{:.4e} J", s.strain_end));
+        self.row("input work", format!("{:.4e} J", s.input_work));
+        self.row(
+            "max E/(E0 + input)",
+            format!("{:.6}", s.max_total_over_input),
+        );
+        if let Some(g) = s.min_gap {
+            self.row(
+                "contact: peak normal force",
+                format!("{:.4e} N", s.peak_normal_force),
+            );
+            self.row("contact: max slip", format!("{:.4e} m", s.max_slip));
+            self.row("contact: min gap", format!("{g:.4e} m"));
+        }
+    }
+
+    /// The two-column table, keys left, values left.
+    pub fn table(&self) -> Table {
+        let mut t = plain_table();
+        for (k, v) in &self.0 {
+            t.add_row([k, v]);
+        }
+        t
+    }
+}
+
+impl std::fmt::Display for Rows {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        writeln!(f, "{}", self.table().trim_fmt())
+    }
+}
+
+/// A borderless table (columns separated by spaces).
+pub fn plain_table() -> Table {
+    let mut t = Table::new();
+    t.load_preset(presets::NOTHING);
+    t
+}
+
+/// Borders of [`column_table`]: only the line under the header (comfy-table's preset order:
+/// left, right, top, bottom, then the header line is the sixth).
+const HEADER_LINE_ONLY: &str = "     -             ";
+
+/// A table with a header row underlined, every column but the first right-aligned (numbers).
+/// Print it with `trim_fmt` (no trailing spaces).
+pub fn column_table<S: ToString>(header: impl IntoIterator<Item = S>) -> Table {
+    let mut t = Table::new();
+    t.load_preset(HEADER_LINE_ONLY);
+    t.set_header(header.into_iter().map(|h| h.to_string()));
+    for c in t.column_iter_mut().skip(1) {
+        c.set_cell_alignment(CellAlignment::Right);
+    }
+    t
+}
+
+/// A Markdown table (for the README).
+pub fn markdown_table<S: ToString>(header: impl IntoIterator<Item = S>) -> Table {
+    let mut t = Table::new();
+    t.load_preset(presets::ASCII_MARKDOWN);
+    t.set_header(header.into_iter().map(|h| h.to_string()));
+    t
 }

@@ -8,9 +8,10 @@ use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use lopin_core::counters::Instant;
 use lopin_core::{post, Control};
+use serde::Serialize;
 
 use super::outputs::{describe, OutputArgs, FLUSH_TIMEOUT};
-use super::report::RunReport;
+use super::report::{Latin, RunReport, SolveReport};
 use super::setup::{prepare, SceneArgs};
 use crate::export;
 use crate::run_dir::run_json::{Outcome, RunRecord};
@@ -65,7 +66,7 @@ pub fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
 
     // outputs: fields replayed once for VTU and the recording
     let t_out = Instant::now();
-    let mut written = serde_json::Map::new();
+    let mut written = Written::default();
     let history = if args.outputs.vtu.is_some() || recorder.is_some() {
         post::history(solver, &solution)
     } else {
@@ -73,10 +74,11 @@ pub fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     };
     if let Some(dir) = &args.outputs.vtu {
         let e = export::write_vtu(dir, solver, &history)?;
-        written.insert(
-            "vtu".into(),
-            serde_json::json!({"dir": dir.display().to_string(), "files": e.files, "bytes": e.bytes}),
-        );
+        written.vtu = Some(VtuWritten {
+            dir: dir.display().to_string(),
+            files: e.files,
+            bytes: e.bytes,
+        });
     }
     if let Some(mut rec) = recorder.take() {
         let steps = rec.solution(
@@ -88,16 +90,16 @@ pub fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         )?;
         // closing the recording writes the file's footer: measure its size after that
         let target = rec.close(FLUSH_TIMEOUT)?;
-        let mut entry = serde_json::json!({
-            "target": target.describe(),
-            "steps": steps.steps,
-            "von_mises_range_pa": [steps.von_mises.0, steps.von_mises.1],
-            "deform_scale": steps.deform,
+        written.rerun = Some(RerunWritten {
+            target: target.describe(),
+            steps: steps.steps,
+            von_mises_range_pa: [steps.von_mises.0, steps.von_mises.1],
+            deform_scale: steps.deform,
+            bytes: match &target {
+                crate::record::Target::File(f) => Some(std::fs::metadata(f).map_or(0, |m| m.len())),
+                _ => None,
+            },
         });
-        if let crate::record::Target::File(f) = &target {
-            entry["bytes"] = serde_json::json!(std::fs::metadata(f).map_or(0, |m| m.len()));
-        }
-        written.insert("rerun".into(), entry);
     }
     let outputs_s = t_out.elapsed().as_secs_f64();
 
@@ -118,7 +120,7 @@ pub fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         let mut r = record.clone();
         r.files = vec![SOLUTION_BIN.into()];
         r.write(dir)?;
-        written.insert("out".into(), serde_json::json!(dir.display().to_string()));
+        written.out = Some(dir.display().to_string());
     }
     if let Some(dir) = &args.outputs.vtu {
         let mut r = record.clone();
@@ -128,20 +130,70 @@ pub fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
 
     let report = RunReport::new(spec, solver, &solution, &summary, solve_wall);
     if args.json {
-        let mut json = report.to_json();
-        if !written.is_empty() {
-            json["outputs"] = serde_json::Value::Object(written);
-        }
+        let json = RunJson {
+            report: report.report(),
+            outputs: written,
+        };
         println!("{}", serde_json::to_string_pretty(&json)?);
     } else {
-        print!("{}", report.table());
-        for (what, v) in &written {
-            println!("  {:<26} {v}", format!("output {what}"));
+        let mut rows = report.rows();
+        // each output as its JSON object, in the order of the keys
+        if let serde_json::Value::Object(outputs) = serde_json::to_value(&written)? {
+            for (what, v) in outputs {
+                rows.row(format!("output {what}"), v);
+            }
         }
+        print!("{rows}");
     }
     Ok(if solution.converged {
         ExitCode::SUCCESS
     } else {
         ExitCode::from(1)
     })
+}
+
+/// `lopin run --json`: the run's report and, when any was written, its outputs.
+#[derive(Debug, Serialize)]
+struct RunJson {
+    #[serde(flatten)]
+    report: SolveReport<Latin>,
+    #[serde(skip_serializing_if = "Written::is_empty")]
+    outputs: Written,
+}
+
+/// The outputs a run wrote (the `outputs` object).
+#[derive(Debug, Default, Serialize)]
+struct Written {
+    #[serde(skip_serializing_if = "Option::is_none")]
+    out: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    rerun: Option<RerunWritten>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    vtu: Option<VtuWritten>,
+}
+
+impl Written {
+    fn is_empty(&self) -> bool {
+        self.out.is_none() && self.rerun.is_none() && self.vtu.is_none()
+    }
+}
+
+/// The recording a run wrote.
+#[derive(Debug, Serialize)]
+struct RerunWritten {
+    target: String,
+    steps: usize,
+    von_mises_range_pa: [f64; 2],
+    deform_scale: f64,
+    /// Size of the file (a file target only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    bytes: Option<u64>,
+}
+
+/// The ParaView files a run wrote.
+#[derive(Debug, Serialize)]
+struct VtuWritten {
+    dir: String,
+    files: usize,
+    bytes: u64,
 }

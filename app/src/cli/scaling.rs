@@ -2,7 +2,7 @@
 //! without the macro problem (METHOD §9, §12 case 4): one cube of matrix material (SCENES.md
 //! `granular` matrix, no grains) meshed once, cut into n × n × n cells with perfect interfaces,
 //! pushed on top and clamped below, then any named scenes (e.g. the granular ones). Prints a
-//! Markdown table; each row's two runs are on the same machine in the same process.
+//! Markdown table (comfy-table) when all are done; each row's two runs are on the same machine in the same process.
 
 use std::process::ExitCode;
 
@@ -13,6 +13,8 @@ use lopin_core::scene::spec::{
 };
 use lopin_core::time_function::TimeGrid;
 use lopin_core::{scene, Settings, Solver};
+
+use super::report::markdown_table;
 
 /// Options of `lopin scaling`.
 #[derive(Debug, Args)]
@@ -163,12 +165,18 @@ pub fn scaling(args: &ScalingArgs) -> anyhow::Result<ExitCode> {
         );
     }
     let mut rows = Vec::new();
-    if !args.json {
-        println!(
-            "| scene | substructures | interfaces (contact) | dofs | macro dofs | factorizations | iterations single-scale | iterations two-scale | reduction | time single / two-scale (of which macro solves) |"
-        );
-        println!("|---|---|---|---|---|---|---|---|---|---|");
-    }
+    let mut table = markdown_table([
+        "scene",
+        "substructures",
+        "interfaces (contact)",
+        "dofs",
+        "macro dofs",
+        "factorizations",
+        "iterations single-scale",
+        "iterations two-scale",
+        "reduction",
+        "time single / two-scale (of which macro solves)",
+    ]);
     let mut runs: Vec<(SceneSpec, String)> = args
         .cells
         .iter()
@@ -184,28 +192,33 @@ pub fn scaling(args: &ScalingArgs) -> anyhow::Result<ExitCode> {
     for (spec, source) in &runs {
         let r = measure(spec, source, args)?;
         if !args.json {
-            println!(
-                "| {} | {} | {} ({}) | {} | {} | {} | {} | {} | {:.0} %{} | {:.2} s / {:.2} s ({:.2} s) |",
-                r.scene,
-                r.substructures,
-                r.interfaces,
-                r.contact,
-                r.dofs,
-                r.macro_dofs,
-                r.factorizations,
-                r.iterations_single,
-                r.iterations_two,
-                r.reduction_percent,
-                if r.converged { "" } else { " (NOT converged)" },
-                r.seconds_single,
-                r.seconds_two,
-                r.macro_seconds
-            );
+            eprintln!("{}: done", r.scene);
         }
+        table.add_row([
+            r.scene.clone(),
+            r.substructures.to_string(),
+            format!("{} ({})", r.interfaces, r.contact),
+            r.dofs.to_string(),
+            r.macro_dofs.to_string(),
+            r.factorizations.to_string(),
+            r.iterations_single.to_string(),
+            r.iterations_two.to_string(),
+            format!(
+                "{:.0} %{}",
+                r.reduction_percent,
+                if r.converged { "" } else { " (NOT converged)" }
+            ),
+            format!(
+                "{:.2} s / {:.2} s ({:.2} s)",
+                r.seconds_single, r.seconds_two, r.macro_seconds
+            ),
+        ]);
         rows.push(r);
     }
     if args.json {
         println!("{}", serde_json::to_string_pretty(&rows)?);
+    } else {
+        println!("{}", table.trim_fmt());
     }
     Ok(ExitCode::SUCCESS)
 }

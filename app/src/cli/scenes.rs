@@ -1,10 +1,14 @@
-//! `lopin scenes` and `lopin export-scene`: the registry, and its scenes as TOML files.
+//! `lopin scenes` and `lopin export-scene`: the registry (a table of names and descriptions), and
+//! its scenes as TOML files.
 
 use std::process::ExitCode;
 
 use lopin_core::scene::{self, registry};
 
+use super::report::plain_table;
+
 pub fn list() -> anyhow::Result<ExitCode> {
+    let mut table = plain_table();
     for name in registry::SCENES {
         let spec =
             registry::builtin(name).ok_or_else(|| anyhow::anyhow!("registry lost {name}"))?;
@@ -13,8 +17,9 @@ pub fn list() -> anyhow::Result<ExitCode> {
         } else {
             ""
         };
-        println!("{name:<16} {}{large}", spec.description);
+        table.add_row([name.to_string(), format!("{}{large}", spec.description)]);
     }
+    println!("{}", table.trim_fmt());
     Ok(ExitCode::SUCCESS)
 }
 

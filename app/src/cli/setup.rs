@@ -5,7 +5,7 @@ use anyhow::Context;
 use clap::Args;
 use lopin_core::counters::Instant;
 use lopin_core::estimate::Estimate;
-use lopin_core::{scene, Problem, Settings, Solver};
+use lopin_core::{scene, Parameter, Problem, Settings, Solver};
 
 /// Options shared by the commands that solve a scene.
 #[derive(Debug, Clone, Args)]
@@ -75,10 +75,9 @@ pub fn build(args: &SceneArgs) -> anyhow::Result<Built> {
     spec.refine(args.refine);
     spec.split(args.split);
     if let Some(f) = args.friction {
-        anyhow::ensure!(
-            f.is_finite() && f >= 0.0,
-            "--f must be a non-negative number, got {f}"
-        );
+        Parameter::Friction
+            .check(f)
+            .map_err(|_| anyhow::anyhow!("--f must be a non-negative number, got {f}"))?;
         spec.set_friction(f);
     }
     let problem = scene::build::build(&spec, &scene::source_label(&args.scene))?;

@@ -1,25 +1,64 @@
 //! `lopin stress`: the numerical stability stress suite (core `stress`), one row per case
 //! (iterations, η, max energy ratio, min gap against the law's bound, verdict); exit status 1 if
-//! any case fails. Cases run one after the other and every finished row is printed at once.
+//! any case fails. Cases run one after the other; every finished case is told on stderr at once,
+//! the table (comfy-table, text or Markdown) follows when all are done.
 
 use std::process::ExitCode;
 
-use clap::Args;
-use lopin_core::stress::{self, StressOutcome};
+use clap::{Args, ValueEnum};
+use comfy_table::CellAlignment;
+use lopin_reference::stress::{self, StressOutcome};
+
+use super::report::{column_table, markdown_table};
 
 #[derive(Debug, Args)]
 pub struct StressArgs {
     /// Run only the CI set (the default runs the longer full set).
     #[arg(long)]
     quick: bool,
-    /// Run only the cases of this family (k, mu, contrast, dt, long, friction, gap, impact,
-    /// degenerate).
-    #[arg(long)]
-    group: Option<String>,
+    /// Run only the cases of this family.
+    #[arg(long, value_enum)]
+    group: Option<Group>,
     /// Print the table as Markdown (for the README).
     #[arg(long)]
     markdown: bool,
 }
+
+/// A family of stress cases (`--group`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum Group {
+    K,
+    Mu,
+    Contrast,
+    Dt,
+    Long,
+    Friction,
+    Gap,
+    Impact,
+    Degenerate,
+}
+
+impl Group {
+    /// The family's name in the suite.
+    fn name(self) -> String {
+        self.to_possible_value()
+            .map_or_else(String::new, |v| v.get_name().to_string())
+    }
+}
+
+/// The columns of the table.
+const HEADER: [&str; 10] = [
+    "case",
+    "dofs",
+    "steps",
+    "iterations",
+    "eta",
+    "max E/(E0+W)",
+    "reference max E/(E0+W)",
+    "min gap / bound (m)",
+    "time s",
+    "verdict",
+];
 
 pub fn stress(args: &StressArgs) -> anyhow::Result<ExitCode> {
     let mut cases = if args.quick {
@@ -27,43 +66,42 @@ pub fn stress(args: &StressArgs) -> anyhow::Result<ExitCode> {
     } else {
         stress::full()
     };
-    if let Some(g) = &args.group {
+    if let Some(g) = args.group {
+        let g = g.name();
         cases.retain(|c| c.group == g);
         anyhow::ensure!(!cases.is_empty(), "--group {g}: no such family of cases");
     }
-    if args.markdown {
-        println!("| case | dofs | steps | iterations | eta | max E/(E0+W) | reference max E/(E0+W) | min gap / bound (m) | time s | verdict |");
-        println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|---|");
+    let mut table = if args.markdown {
+        markdown_table(HEADER)
     } else {
-        println!(
-            "{:<46} {:>6} {:>6} {:>6} {:>9} {:>12} {:>12} {:>19} {:>7}  verdict",
-            "case",
-            "dofs",
-            "steps",
-            "iter",
-            "eta",
-            "max E ratio",
-            "ref E ratio",
-            "min gap / bound",
-            "time s"
-        );
-    }
+        let mut t = column_table(HEADER);
+        if let Some(c) = t.column_mut(9) {
+            c.set_cell_alignment(CellAlignment::Left);
+        }
+        t
+    };
     let mut failed = 0;
-    for case in &cases {
-        let row = match case.run() {
+    for (i, case) in cases.iter().enumerate() {
+        // the row at once on stderr, the table when all are done
+        let cells = match case.run() {
             Ok(o) => {
                 if !o.ok {
                     failed += 1;
                 }
-                format_row(&o, args.markdown)
+                cells(&o)
             }
             Err(e) => {
                 failed += 1;
-                format!("{:<46} FAIL: {e}", case.name)
+                let mut cells = vec![String::from("-"); 10];
+                cells[0].clone_from(&case.name);
+                cells[9] = format!("FAIL: {e}");
+                cells
             }
         };
-        println!("{row}");
+        eprintln!("[{}/{}] {}: {}", i + 1, cases.len(), cells[0], cells[9]);
+        table.add_row(cells);
     }
+    println!("{}", table.trim_fmt());
     println!("{} cases, {} failed", cases.len(), failed);
     Ok(if failed == 0 {
         ExitCode::SUCCESS
@@ -72,11 +110,9 @@ pub fn stress(args: &StressArgs) -> anyhow::Result<ExitCode> {
     })
 }
 
-/// Column widths of the text table (the last column, the verdict, is not padded).
-const WIDTHS: [usize; 9] = [46, 6, 6, 6, 9, 12, 12, 19, 7];
-
-fn format_row(o: &StressOutcome, markdown: bool) -> String {
-    let cells = [
+/// The cells of one finished case.
+fn cells(o: &StressOutcome) -> Vec<String> {
+    vec![
         o.name.clone(),
         o.dofs.to_string(),
         o.steps.to_string(),
@@ -90,16 +126,5 @@ fn format_row(o: &StressOutcome, markdown: bool) -> String {
         }),
         format!("{:.2}", o.wall_s),
         o.verdict.clone(),
-    ];
-    if markdown {
-        format!("| {} |", cells.join(" | "))
-    } else {
-        let mut line = format!("{:<w$}", cells[0], w = WIDTHS[0]);
-        for (cell, w) in cells[1..9].iter().zip(&WIDTHS[1..]) {
-            line.push_str(&format!(" {cell:>w$}"));
-        }
-        line.push_str("  ");
-        line.push_str(&cells[9]);
-        line
-    }
+    ]
 }

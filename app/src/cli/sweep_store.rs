@@ -1,5 +1,5 @@
 //! The on-disk form of a sweep: `sweep.json` (what was asked), one `value-NNN.json` record per
-//! finished value and its interface state `value-NNN.state` (binary, little-endian f64), each
+//! finished value and its interface state `value-NNN.state` (binary, [`crate::run_dir::solution_file`]), each
 //! written atomically (temporary file, then rename; the record last), so that a sweep killed at
 //! any moment loses nothing finished and `--resume` can continue it.
 

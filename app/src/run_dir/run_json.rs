@@ -65,6 +65,18 @@ pub struct Outcome {
     pub eta_history: Vec<f64>,
 }
 
+/// A sweep's parameter, values, mode, predictor and progress.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SweepFacts {
+    pub parameter: String,
+    pub values: Vec<f64>,
+    pub mode: String,
+    pub predictor: String,
+    /// Values finished so far.
+    pub finished: usize,
+    pub total_iterations: usize,
+}
+
 /// The content of run.json.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct RunRecord {
@@ -87,7 +99,7 @@ pub struct RunRecord {
     pub result: Option<Outcome>,
     /// A sweep's parameter, values and totals.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub sweep: Option<serde_json::Value>,
+    pub sweep: Option<SweepFacts>,
     /// Files of the directory, relative names.
     #[serde(default)]
     pub files: Vec<String>,

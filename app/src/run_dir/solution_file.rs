@@ -1,92 +1,192 @@
-//! Binary files of interface fields (little-endian u64 sizes and f64 values): a sweep value's
-//! warm-start state s = (F, W) (`LOPINST1`, METHOD §8) and a run's converged solution, s and
-//! ŝ = (F̂, Ŵ) of every interface side (`LOPINSO1`, METHOD §6), from which `lopin export`
-//! replays the fields without solving again.
+//! Binary files of interface fields, through serde and postcard: a sweep value's warm-start
+//! state s = (F, W) (`value-NNN.state`, METHOD §8) and a run's converged solution, s and
+//! ŝ = (F̂, Ŵ) of every interface side (`solution.bin`, METHOD §6), from which `lopin export`
+//! replays the fields without solving again. Each file starts with an 8-byte magic naming its
+//! kind and format version (`LOPINST2`, `LOPINSO2`); a file of another kind, of an older
+//! format (`…1`, Lopin's hand-written codec) or not Lopin's at all is refused with that said.
+//! The core's [`InterfaceState`] and [`TraceHistory`] are written through mirror types.
+
+use std::borrow::Cow;
+use std::path::Path;
 
 use anyhow::{bail, Context};
 use lopin_core::state::{InterfaceState, TraceHistory};
 use lopin_core::Solution;
-use std::path::Path;
+use serde::{Deserialize, Serialize};
 
-const STATE_MAGIC: &[u8; 8] = b"LOPINST1";
-const SOLUTION_MAGIC: &[u8; 8] = b"LOPINSO1";
+/// Magic of a warm-start state file, format 2 (postcard).
+const STATE_MAGIC: [u8; 8] = *b"LOPINST2";
+/// Magic of a solution file, format 2 (postcard).
+const SOLUTION_MAGIC: [u8; 8] = *b"LOPINSO2";
+
+/// One trace history: `len` values per step, F and W over steps 0..=N.
+#[derive(Serialize, Deserialize)]
+struct Trace<'a> {
+    len: usize,
+    f: Cow<'a, [f64]>,
+    w: Cow<'a, [f64]>,
+}
+
+/// s = (F, W) of every substructure trace.
+#[derive(Serialize, Deserialize)]
+struct State<'a> {
+    steps: usize,
+    subs: Vec<Trace<'a>>,
+}
+
+/// A converged solution (its η history is in run.json).
+#[derive(Serialize, Deserialize)]
+struct SolutionBody<'a> {
+    iterations: usize,
+    eta: f64,
+    converged: bool,
+    state: State<'a>,
+    /// ŝ per interface, per side.
+    hats: Vec<Vec<Trace<'a>>>,
+}
+
+impl<'a> From<&'a TraceHistory> for Trace<'a> {
+    fn from(h: &'a TraceHistory) -> Self {
+        Trace {
+            len: h.len,
+            f: Cow::Borrowed(&h.f),
+            w: Cow::Borrowed(&h.w),
+        }
+    }
+}
+
+impl<'a> From<&'a InterfaceState> for State<'a> {
+    fn from(s: &'a InterfaceState) -> Self {
+        State {
+            steps: s.steps,
+            subs: s.subs.iter().map(Trace::from).collect(),
+        }
+    }
+}
+
+impl Trace<'_> {
+    /// The history, checked against the number of steps.
+    fn history(self, steps: usize) -> anyhow::Result<TraceHistory> {
+        let count = self.len.checked_mul(steps + 1);
+        if count != Some(self.f.len()) || count != Some(self.w.len()) {
+            bail!(
+                "a trace of {} values per step holds {} and {} values over {} steps",
+                self.len,
+                self.f.len(),
+                self.w.len(),
+                steps + 1
+            );
+        }
+        Ok(TraceHistory {
+            len: self.len,
+            f: self.f.into_owned(),
+            w: self.w.into_owned(),
+        })
+    }
+}
+
+impl State<'_> {
+    fn state(self) -> anyhow::Result<InterfaceState> {
+        let steps = self.steps;
+        Ok(InterfaceState {
+            steps,
+            subs: self
+                .subs
+                .into_iter()
+                .map(|t| t.history(steps))
+                .collect::<anyhow::Result<_>>()?,
+        })
+    }
+}
+
+/// The magic, then the body.
+fn encode<T: Serialize>(magic: [u8; 8], body: &T) -> Vec<u8> {
+    // postcard writes into a Vec without failing for these types
+    postcard::to_extend(body, magic.to_vec()).unwrap_or_else(|e| unreachable!("postcard: {e}"))
+}
+
+/// Checks the magic and decodes the body, which must end the file.
+fn decode<'a, T: Deserialize<'a>>(
+    magic: [u8; 8],
+    what: &str,
+    bytes: &'a [u8],
+) -> anyhow::Result<T> {
+    let Some((head, body)) = bytes.split_first_chunk::<8>() else {
+        bail!("truncated: {} bytes, no header", bytes.len());
+    };
+    if *head != magic {
+        if head[..7] == magic[..7] {
+            bail!(
+                "a {what} file of format {}, this Lopin reads format {} ({}): remake it with this \
+                 version",
+                char::from(head[7]),
+                char::from(magic[7]),
+                String::from_utf8_lossy(&magic)
+            );
+        }
+        bail!(
+            "bad magic {:?} (expected {}, a {what} file)",
+            String::from_utf8_lossy(head),
+            String::from_utf8_lossy(&magic)
+        );
+    }
+    let (value, rest) = postcard::take_from_bytes(body).context("truncated or damaged")?;
+    if !rest.is_empty() {
+        bail!("{} trailing bytes", rest.len());
+    }
+    Ok(value)
+}
 
 /// Encodes a warm-start state.
 pub fn encode_state(s: &InterfaceState) -> Vec<u8> {
-    let mut b = Vec::with_capacity(24 + 16 * s.size());
-    b.extend_from_slice(STATE_MAGIC);
-    put_state(&mut b, s);
-    b
+    encode(STATE_MAGIC, &State::from(s))
 }
 
 /// Decodes a warm-start state.
 pub fn decode_state(bytes: &[u8]) -> anyhow::Result<InterfaceState> {
-    let mut r = Reader { b: bytes, pos: 0 };
-    r.magic(STATE_MAGIC)?;
-    let s = r.state()?;
-    r.end()?;
-    Ok(s)
+    decode::<State>(STATE_MAGIC, "state", bytes)?.state()
 }
 
 /// Encodes a converged solution: iterations, η, convergence flag, s, then ŝ per interface side.
 pub fn encode_solution(sol: &Solution) -> Vec<u8> {
-    let hats: usize = sol.hats.iter().flatten().map(|h| h.f.len() * 2).sum();
-    let mut b = Vec::with_capacity(64 + 16 * sol.state.size() + 8 * hats);
-    b.extend_from_slice(SOLUTION_MAGIC);
-    put_u64(&mut b, sol.iterations);
-    b.extend_from_slice(&sol.eta.to_le_bytes());
-    put_u64(&mut b, usize::from(sol.converged));
-    put_state(&mut b, &sol.state);
-    put_u64(&mut b, sol.hats.len());
-    for sides in &sol.hats {
-        put_u64(&mut b, sides.len());
-        for h in sides {
-            put_u64(&mut b, h.len);
-        }
-    }
-    for h in sol.hats.iter().flatten() {
-        put_values(&mut b, &h.f);
-        put_values(&mut b, &h.w);
-    }
-    b
+    encode(
+        SOLUTION_MAGIC,
+        &SolutionBody {
+            iterations: sol.iterations,
+            eta: sol.eta,
+            converged: sol.converged,
+            state: State::from(&sol.state),
+            hats: sol
+                .hats
+                .iter()
+                .map(|sides| sides.iter().map(Trace::from).collect())
+                .collect(),
+        },
+    )
 }
 
 /// Decodes a converged solution (η history is not stored: run.json holds it).
 pub fn decode_solution(bytes: &[u8]) -> anyhow::Result<Solution> {
-    let mut r = Reader { b: bytes, pos: 0 };
-    r.magic(SOLUTION_MAGIC)?;
-    let iterations = r.word()?;
-    let eta = r.value()?;
-    let converged = r.word()? != 0;
-    let state = r.state()?;
+    let body: SolutionBody = decode(SOLUTION_MAGIC, "solution", bytes)?;
+    let state = body.state.state()?;
     let steps = state.steps;
-    let interfaces = r.word()?;
-    let mut shapes = Vec::new();
-    for _ in 0..interfaces.min(bytes.len()) {
-        let sides = r.word()?;
-        let lens = (0..sides.min(bytes.len()))
-            .map(|_| r.word())
-            .collect::<anyhow::Result<Vec<_>>>()?;
-        shapes.push(lens);
-    }
-    let mut hats = Vec::with_capacity(shapes.len());
-    for lens in shapes {
-        let mut sides = Vec::with_capacity(lens.len());
-        for len in lens {
-            let f = r.values(len * (steps + 1))?;
-            let w = r.values(len * (steps + 1))?;
-            sides.push(TraceHistory { len, f, w });
-        }
-        hats.push(sides);
-    }
-    r.end()?;
+    let hats = body
+        .hats
+        .into_iter()
+        .map(|sides| {
+            sides
+                .into_iter()
+                .map(|t| t.history(steps))
+                .collect::<anyhow::Result<Vec<_>>>()
+        })
+        .collect::<anyhow::Result<Vec<_>>>()?;
     Ok(Solution {
         state,
         hats,
-        iterations,
-        eta,
+        iterations: body.iterations,
+        eta: body.eta,
         eta_history: Vec::new(),
-        converged,
+        converged: body.converged,
         cancelled: false,
     })
 }
@@ -96,94 +196,6 @@ pub fn read_solution(path: &Path) -> anyhow::Result<Solution> {
     let bytes = std::fs::read(path).with_context(|| format!("reading {}", path.display()))?;
     decode_solution(&bytes)
         .with_context(|| format!("{}: not a Lopin solution file", path.display()))
-}
-
-fn put_u64(b: &mut Vec<u8>, x: usize) {
-    b.extend_from_slice(&(x as u64).to_le_bytes());
-}
-
-fn put_values(b: &mut Vec<u8>, xs: &[f64]) {
-    for x in xs {
-        b.extend_from_slice(&x.to_le_bytes());
-    }
-}
-
-fn put_state(b: &mut Vec<u8>, s: &InterfaceState) {
-    put_u64(b, s.steps);
-    put_u64(b, s.subs.len());
-    for h in &s.subs {
-        put_u64(b, h.len);
-    }
-    for h in &s.subs {
-        put_values(b, &h.f);
-        put_values(b, &h.w);
-    }
-}
-
-/// A cursor over the bytes; every read checks the length.
-struct Reader<'a> {
-    b: &'a [u8],
-    pos: usize,
-}
-
-impl Reader<'_> {
-    fn take(&mut self, n: usize) -> anyhow::Result<&[u8]> {
-        let end = self.pos.checked_add(n).filter(|&e| e <= self.b.len());
-        let Some(end) = end else {
-            bail!("truncated at byte {} (wanted {n} more)", self.pos);
-        };
-        let s = &self.b[self.pos..end];
-        self.pos = end;
-        Ok(s)
-    }
-
-    fn magic(&mut self, m: &[u8; 8]) -> anyhow::Result<()> {
-        if self.take(8)? != m {
-            bail!("bad magic (expected {})", String::from_utf8_lossy(m));
-        }
-        Ok(())
-    }
-
-    fn word(&mut self) -> anyhow::Result<usize> {
-        let s = self.take(8)?;
-        Ok(u64::from_le_bytes(s.try_into().unwrap_or([0; 8])) as usize)
-    }
-
-    fn value(&mut self) -> anyhow::Result<f64> {
-        let s = self.take(8)?;
-        Ok(f64::from_le_bytes(s.try_into().unwrap_or([0; 8])))
-    }
-
-    fn values(&mut self, n: usize) -> anyhow::Result<Vec<f64>> {
-        let bytes = self.take(n.saturating_mul(8))?;
-        Ok(bytes
-            .chunks_exact(8)
-            .map(|c| f64::from_le_bytes(c.try_into().unwrap_or([0; 8])))
-            .collect())
-    }
-
-    fn state(&mut self) -> anyhow::Result<InterfaceState> {
-        let steps = self.word()?;
-        let nsubs = self.word()?;
-        let lens = (0..nsubs.min(self.b.len()))
-            .map(|_| self.word())
-            .collect::<anyhow::Result<Vec<_>>>()?;
-        let mut subs = Vec::with_capacity(lens.len());
-        for len in lens {
-            let count = len.saturating_mul(steps.saturating_add(1));
-            let f = self.values(count)?;
-            let w = self.values(count)?;
-            subs.push(TraceHistory { len, f, w });
-        }
-        Ok(InterfaceState { steps, subs })
-    }
-
-    fn end(&self) -> anyhow::Result<()> {
-        if self.pos != self.b.len() {
-            bail!("{} trailing bytes", self.b.len() - self.pos);
-        }
-        Ok(())
-    }
 }
 
 #[cfg(test)]
@@ -239,5 +251,23 @@ mod tests {
         longer.push(0);
         assert!(decode_solution(&longer).is_err());
         assert!(decode_solution(&encode_state(&sol.state)).is_err());
+    }
+
+    #[test]
+    fn old_and_foreign_files_are_refused_by_their_header() {
+        let s = InterfaceState {
+            steps: 0,
+            subs: vec![history(1, 1.0)],
+        };
+        let mut old = encode_state(&s);
+        old[7] = b'1';
+        let e = format!("{:#}", decode_state(&old).expect_err("format 1"));
+        assert!(e.contains("format 1") && e.contains("LOPINST2"), "{e}");
+        let e = format!(
+            "{:#}",
+            decode_state(b"PK\x03\x04zipfile").expect_err("foreign")
+        );
+        assert!(e.contains("bad magic"), "{e}");
+        assert!(decode_state(b"LOP").is_err());
     }
 }

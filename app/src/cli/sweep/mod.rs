@@ -1,0 +1,70 @@
+//! `lopin sweep`: a parametric study over one interface parameter with warm starts (METHOD §8),
+//! records written per finished value, `--resume`, a cold baseline or comparison, a table or one
+//! JSON object, and the two PNG figures; run.json in the sweep directory, and with `--rerun`
+//! a recording with each value's fields and its quantities on the `parameter` timeline.
+//!
+//! The driver is three steps: [`plan`] (the options checked into a plan: parameter, values,
+//! predictor, mode, directory), [`values`] (solving each value warm or cold, resuming, saving
+//! each record) and [`outputs`] (run.json, table, JSON, figures).
+
+mod outputs;
+mod plan;
+mod values;
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::Args;
+
+use super::outputs::RerunArgs;
+use super::setup::{prepare, SceneArgs};
+use super::sweep_store::Store;
+use plan::{ParamValues, Plan, PredictorArg};
+
+/// Options of `lopin sweep`.
+#[derive(Debug, Args)]
+pub struct SweepArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// The parameter and its values: NAME=START:STOP:STEP or NAME=V1,V2,… (NAME: f, gap, v0).
+    #[arg(long, value_parser = plan::parse_param)]
+    pub param: ParamValues,
+    /// Directory for the per-value records, the state files and the figures
+    /// (default out/sweep-SCENE-PARAM).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Solve every value from scratch (the baseline).
+    #[arg(long, conflicts_with = "compare_cold")]
+    pub cold: bool,
+    /// Run the warm sweep and, for each value, the cold solve too.
+    #[arg(long)]
+    pub compare_cold: bool,
+    /// Start state of each value: `previous` (the converged state of the previous value; measured
+    /// best) or `linear` (extrapolate the two previous).
+    #[arg(long, value_enum, default_value_t = PredictorArg::Previous)]
+    pub predictor: PredictorArg,
+    /// Continue the sweep stored in --out from its last finished value.
+    #[arg(long)]
+    pub resume: bool,
+    /// Re-solve every substructure at every iteration (disable skipping unchanged ones).
+    #[arg(long)]
+    pub no_skip: bool,
+    /// Print one JSON object on stdout instead of the table.
+    #[arg(long)]
+    pub json: bool,
+    #[command(flatten)]
+    pub rerun: RerunArgs,
+}
+
+pub fn sweep(args: &SweepArgs) -> anyhow::Result<ExitCode> {
+    let mut prepared = prepare(&args.scene)?;
+    let plan = Plan::new(args, &mut prepared)?;
+    let (store, records) = Store::open(&plan.dir, &plan.header, args.resume)?;
+    let records = values::solve(args, &plan, &mut prepared, &store, records)?;
+    outputs::finish(args, &plan, &store, &records)?;
+    Ok(if records.iter().all(|r| r.converged) {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
+    })
+}
