@@ -68,22 +68,23 @@ impl Solver {
         let classes = factor_classes(&problem.subs);
         let factors = factorize(&problem, &classes, settings.k)?;
         let works = make_works(&problem, &classes, &factors);
-        let mut solver = Self {
+        let linear = if settings.two_scale {
+            let mp = MacroProblem::new(&problem, settings.k, &classes, &factors)?;
+            LinearStage::TwoScale(Box::new(TwoScale::new(works, mp)))
+        } else {
+            LinearStage::SingleScale(SingleScale::new(works))
+        };
+        let mut counters = Counters::default();
+        counters.setup_s = start.elapsed().as_secs_f64();
+        Ok(Self {
             problem,
-            settings: Settings {
-                two_scale: false,
-                ..settings
-            },
+            settings,
             classes,
             factors,
-            linear: LinearStage::SingleScale(SingleScale::new(works)),
+            linear,
             spare_macro: None,
-            counters: Counters::default(),
-        };
-        solver.set_scale(settings.two_scale)?;
-        solver.settings = settings;
-        solver.counters.setup_s = start.elapsed().as_secs_f64();
-        Ok(solver)
+            counters,
+        })
     }
 
     /// The problem.
@@ -111,14 +112,15 @@ impl Solver {
             self.settings.k = settings.k;
             self.settings.two_scale = false;
         }
-        self.set_scale(settings.two_scale)?;
+        self.set_scale(settings.two_scale, settings.k)?;
         self.settings = settings;
         self.counters.setup_s += start.elapsed().as_secs_f64();
         Ok(())
     }
 
-    /// Makes the linear stage single- or two-scale for the current k (METHOD §4 or §9).
-    fn set_scale(&mut self, two_scale: bool) -> Result<()> {
+    /// Makes the linear stage single- or two-scale (METHOD §4 or §9) for the factorizations of
+    /// search direction `k`.
+    fn set_scale(&mut self, two_scale: bool, k: f64) -> Result<()> {
         if two_scale == matches!(self.linear, LinearStage::TwoScale(_)) {
             return Ok(());
         }
@@ -126,7 +128,7 @@ impl Solver {
             (true, Some(mp)) => Some(mp),
             (true, None) => Some(MacroProblem::new(
                 &self.problem,
-                self.settings.k,
+                k,
                 &self.classes,
                 &self.factors,
             )?),
