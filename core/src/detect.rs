@@ -361,6 +361,33 @@ fn check_conforming(
                     }
                 }
             }
+            // a contact face facing another body's face across a gap within the search distance
+            // pairs node to node, or is reported: a contact never disappears silently
+            for (t, other_faces) in faces.iter().enumerate() {
+                let PairRule::Contact { search, .. } = pair_rule(s, t) else {
+                    continue;
+                };
+                if t == s || search <= 0.0 || box_distance(&boxes[s], &boxes[t]) > search + tol {
+                    continue;
+                }
+                for other in other_faces {
+                    if dot(face.normal, other.normal) > -FACING {
+                        continue;
+                    }
+                    let dist = dot(sub(other.centroid, face.centroid), face.normal);
+                    if dist < -tol || dist > search + tol {
+                        continue;
+                    }
+                    let across = [
+                        face.centroid[0] + dist * face.normal[0],
+                        face.centroid[1] + dist * face.normal[1],
+                        face.centroid[2] + dist * face.normal[2],
+                    ];
+                    if point_in_face(subs, t, other, across) {
+                        return Err(nonconforming(subs, s, t, face.centroid));
+                    }
+                }
+            }
         }
     }
     Ok(())
@@ -380,6 +407,7 @@ fn point_in_face(subs: &[Substructure], t: usize, face: &Face, p: Vec3) -> bool 
 
 fn nonconforming(subs: &[Substructure], s: usize, t: usize, at: Vec3) -> LopinError {
     LopinError::NonConforming {
+        source_name: String::new(),
         a: subs[s].name.clone(),
         b: subs[t].name.clone(),
         x: at[0],

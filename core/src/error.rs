@@ -27,8 +27,10 @@ pub enum LopinError {
         known: String,
     },
     /// Two substructures touch on a face region but their nodes do not pair one to one.
-    #[error("substructures `{a}` and `{b}` share a face region near ({x:.6e}, {y:.6e}, {z:.6e}) but their nodes do not match (interfaces must be conforming)")]
+    #[error("{}substructures `{a}` and `{b}` share a face region near ({x:.6e}, {y:.6e}, {z:.6e}) but their nodes do not match (interfaces must be conforming)", source_prefix(.source_name))]
     NonConforming {
+        /// The scene file path, or `scene NAME` (empty where no scene is known).
+        source_name: String,
         /// First substructure.
         a: String,
         /// Second substructure.
@@ -64,6 +66,23 @@ pub enum LopinError {
     /// The monolithic reference cannot treat this problem, or its contact iteration failed.
     #[error("monolithic reference: {0}")]
     Reference(String),
+    /// A solve that cannot fit this machine, refused before anything large is allocated.
+    #[error("{source_name}: the solve needs about {needed}, more than this machine can give it: {available}. {detail}. What would fit: {remedy}")]
+    TooLarge {
+        /// The scene file path, or `scene NAME` for a built-in scene.
+        source_name: String,
+        /// Bytes needed, formatted.
+        needed: String,
+        /// Bytes available and where that figure comes from.
+        available: String,
+        /// The sizes and the memory breakdown.
+        detail: String,
+        /// What would make it fit.
+        remedy: String,
+    },
+    /// A value became non-finite during a solve: where it appeared and the inputs that feed it.
+    #[error("non-finite value during the solve: {0}")]
+    NonFinite(String),
     /// Reading a scene file failed.
     #[error("{path}: {reason}")]
     Io {
@@ -74,7 +93,39 @@ pub enum LopinError {
     },
 }
 
+/// "SOURCE: " before a message, or nothing when no source is known.
+fn source_prefix(source: &str) -> String {
+    if source.is_empty() {
+        String::new()
+    } else {
+        format!("{source}: ")
+    }
+}
+
 impl LopinError {
+    /// Names the scene an error without a source came from (interface detection knows only
+    /// substructures).
+    pub fn in_source(self, source: &str) -> Self {
+        match self {
+            LopinError::NonConforming {
+                source_name,
+                a,
+                b,
+                x,
+                y,
+                z,
+            } if source_name.is_empty() => LopinError::NonConforming {
+                source_name: source.to_string(),
+                a,
+                b,
+                x,
+                y,
+                z,
+            },
+            other => other,
+        }
+    }
+
     /// Shorthand for a [`LopinError::Scene`] error.
     pub fn scene(source_name: &str, field: impl Into<String>, reason: impl Into<String>) -> Self {
         LopinError::Scene {

@@ -207,14 +207,7 @@ fn threads() -> usize {
     }
 }
 
-/// Bytes in KiB/MiB/GiB.
+/// Bytes in KiB/MiB/GiB/TiB.
 pub fn bytes(b: usize) -> String {
-    let b = b as f64;
-    if b >= (1u64 << 30) as f64 {
-        format!("{:.2} GiB", b / (1u64 << 30) as f64)
-    } else if b >= (1u64 << 20) as f64 {
-        format!("{:.1} MiB", b / (1u64 << 20) as f64)
-    } else {
-        format!("{:.1} KiB", b / 1024.0)
-    }
+    crate::scene::admission::bytes(b as u64)
 }

@@ -102,9 +102,48 @@ impl Parameter {
         }
     }
 
-    /// Checks `value` and sets it on every interface it applies to.
-    pub fn apply(&self, problem: &mut Problem, value: f64) -> Result<()> {
+    /// Checks a value against a problem: a velocity amplitude no faster than the slowest wave
+    /// speed of the materials in use (small strains), a gap no larger than the model.
+    pub fn check_for(&self, problem: &Problem, value: f64) -> Result<()> {
         self.check(value)?;
+        match self {
+            Self::VelocityAmplitude => {
+                let (c, name) = problem
+                    .subs
+                    .iter()
+                    .map(|s| {
+                        let n = &problem.materials[s.material_id].name;
+                        (s.material.bar_speed(), n.as_str())
+                    })
+                    .fold((f64::INFINITY, ""), |a, b| if b.0 < a.0 { b } else { a });
+                if value.abs() > c {
+                    return Err(LopinError::setting(
+                        "v0",
+                        format!(
+                            "{value:?} m/s is faster than the slowest wave speed of the model \
+                             ({c:.4e} m/s in `{name}`): the strains would not be small"
+                        ),
+                    ));
+                }
+            }
+            Self::Gap => {
+                let size = problem.diameter();
+                if value > size {
+                    return Err(LopinError::setting(
+                        "gap",
+                        format!("{value:?} m exceeds the size of the whole model ({size:.4e} m)"),
+                    ));
+                }
+            }
+            Self::Friction => {}
+        }
+        Ok(())
+    }
+
+    /// Checks `value` (against the problem too, [`Self::check_for`]) and sets it on every
+    /// interface it applies to.
+    pub fn apply(&self, problem: &mut Problem, value: f64) -> Result<()> {
+        self.check_for(problem, value)?;
         match self {
             Self::Friction => problem.set_friction(value),
             Self::Gap => problem.set_gap(value),

@@ -18,6 +18,7 @@
 
 pub mod iteration;
 mod linear;
+mod non_finite;
 mod settings;
 mod skip_cache;
 mod solution;
@@ -63,7 +64,7 @@ impl Solver {
     /// substructures ([`crate::operator_classes`]), and the macro problem if the settings ask
     /// for the two-scale linear stage.
     pub fn new(problem: Problem, settings: Settings) -> Result<Self> {
-        settings.validate()?;
+        settings.validate_for(&problem)?;
         let start = Instant::now();
         let classes = factor_classes(&problem.subs);
         let factors = factorize(&problem, &classes, settings.k)?;
@@ -101,7 +102,7 @@ impl Solver {
     /// the two-scale switch changed (building the macro problem if none is held for this k).
     /// On an error the solver keeps its previous settings.
     pub fn set_settings(&mut self, settings: Settings) -> Result<()> {
-        settings.validate()?;
+        settings.validate_for(&self.problem)?;
         let start = Instant::now();
         if settings.k != self.settings.k {
             let factors = factorize(&self.problem, &self.classes, settings.k)?;
@@ -206,6 +207,9 @@ impl Solver {
     ) -> Result<Solution> {
         let mut run = self.begin(start)?;
         while !self.step(&mut run, observer) {}
+        if let Some(failure) = run.failure() {
+            return Err(LopinError::NonFinite(failure.to_string()));
+        }
         Ok(self.finish(run))
     }
 }

@@ -107,7 +107,14 @@ pub(crate) fn load(
     SceneGeometry,
 )> {
     let spec = scene::load(name_or_path)?;
-    let problem = scene::build::build(&spec, &scene::source_label(name_or_path))?;
+    let source = scene::source_label(name_or_path);
+    // the explorer solves the whole interval with the skip cache: admitted before building
+    scene::admission::admit(
+        &spec,
+        &source,
+        scene::admission::SolveShape::of_scene(&spec),
+    )?;
+    let problem = scene::build::build(&spec, &source)?;
     let settings = Settings::for_problem(&problem, &spec.solver);
     let geo = SceneGeometry::of(&problem);
     Ok((spec, problem, settings, geo))

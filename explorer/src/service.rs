@@ -193,6 +193,13 @@ impl Service {
     /// A solve ended (converged, failed or cancelled): keep its state, report, send the
     /// converged fields and record them.
     fn conclude(&mut self, r: Running) {
+        if let Some(failure) = r.run.failure() {
+            // keep the last good state to restart from; say where the solve broke down
+            self.send(Event::Error(format!(
+                "non-finite value during the solve: {failure}"
+            )));
+            return;
+        }
         let warm = r.run.is_warm();
         let solve_s = r.started.elapsed().as_secs_f64();
         let sol = self.solver.finish(r.run);

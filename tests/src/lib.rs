@@ -25,6 +25,41 @@ pub fn solve(spec: &SceneSpec, tweak: impl FnOnce(&mut Settings)) -> (Solver, So
 
 pub use lopin_core::post::velocity_history;
 
+/// Path of a scene file of `assets/scenes/`.
+pub fn asset(name: &str) -> String {
+    format!(
+        "{}/../assets/scenes/{name}.toml",
+        env!("CARGO_MANIFEST_DIR")
+    )
+}
+
+/// Writes each malformed variant of `good` to a file and checks that loading it fails with a
+/// scene error naming the file, the field and the reason.
+pub fn assert_clear_errors(good: &str, cases: &[(&str, String, &str, &str)], dir: &str) {
+    let dir = std::env::temp_dir().join(format!("{dir}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    for (what, text, field, reason) in cases {
+        assert_ne!(text, good, "{what}: the edit did not apply");
+        let path = dir.join("bad.toml");
+        std::fs::write(&path, text).expect("write");
+        let err = scene::load(path.to_str().expect("utf8")).expect_err(what);
+        let msg = err.to_string();
+        assert!(
+            matches!(
+                err,
+                lopin_core::LopinError::Scene { .. } | lopin_core::LopinError::TooLarge { .. }
+            ),
+            "{what}: {msg}"
+        );
+        assert!(msg.contains("bad.toml"), "{what}: no file name in `{msg}`");
+        assert!(msg.contains(field), "{what}: no field `{field}` in `{msg}`");
+        assert!(
+            msg.contains(reason),
+            "{what}: no reason `{reason}` in `{msg}`"
+        );
+    }
+}
+
 /// max over space-time of |a − b| / max |b| for two velocity histories of the same problem.
 pub fn rel_diff(a: &[Vec<Vec<f64>>], b: &[Vec<Vec<f64>>]) -> f64 {
     let mut diff: f64 = 0.0;

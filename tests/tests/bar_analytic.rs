@@ -8,7 +8,7 @@ use lopin_tests::{plateau, solve};
 
 fn refined(name: &str) -> scene::SceneSpec {
     let mut spec = scene::registry::builtin(name).expect("registry scene");
-    spec.refine(4);
+    spec.refine(4).expect("refine");
     spec
 }
 

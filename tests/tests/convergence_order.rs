@@ -14,7 +14,7 @@ use lopin_tests::solve;
 /// L2 error of the bar refined `r` times in x and in time.
 fn bar_error(r: usize) -> f64 {
     let mut spec = scene::load("bar").expect("scene");
-    spec.refine(r);
+    spec.refine(r).expect("refine");
     spec.time.dt /= r as f64;
     spec.time.steps *= r;
     let (solver, sol) = solve(&spec, |s| {

@@ -56,7 +56,7 @@ fn gap_impact_agrees() {
 #[test]
 fn split_two_blocks_agrees() {
     let mut spec = scene::load("two-blocks").expect("scene");
-    spec.split(2);
+    spec.split(2).expect("split");
     latin_vs_reference(&spec, &[None]);
 }
 
@@ -110,7 +110,7 @@ fn reference_reproduces_the_1d_impact() {
 #[test]
 fn reference_reproduces_the_bar_plateau() {
     let mut spec = scene::load("bar").expect("scene");
-    spec.refine(4);
+    spec.refine(4).expect("refine");
     let problem = scene::build::build(&spec, "bar").expect("scene builds");
     let reference = Monolithic::new(problem).expect("reference");
     let sol = reference.solve().expect("solve");

@@ -9,35 +9,7 @@ use std::time::Instant;
 use lopin_core::interface::Law;
 use lopin_core::scene::granular::{self, Layout};
 use lopin_core::{post, scene, Control, LopinError, Parameter, Problem, Settings, Solver};
-use lopin_tests::{rel_diff, solve, velocity_history};
-
-fn asset(name: &str) -> String {
-    format!(
-        "{}/../assets/scenes/{name}.toml",
-        env!("CARGO_MANIFEST_DIR")
-    )
-}
-
-/// Writes each malformed variant of `good` to a file and checks that loading it fails with a
-/// scene error naming the file, the field and the reason.
-fn assert_clear_errors(good: &str, cases: &[(&str, String, &str, &str)], dir: &str) {
-    let dir = std::env::temp_dir().join(format!("{dir}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    for (what, text, field, reason) in cases {
-        assert_ne!(text, good, "{what}: the edit did not apply");
-        let path = dir.join("bad.toml");
-        std::fs::write(&path, text).expect("write");
-        let err = scene::load(path.to_str().expect("utf8")).expect_err(what);
-        let msg = err.to_string();
-        assert!(matches!(err, LopinError::Scene { .. }), "{what}: {msg}");
-        assert!(msg.contains("bad.toml"), "{what}: no file name in `{msg}`");
-        assert!(msg.contains(field), "{what}: no field `{field}` in `{msg}`");
-        assert!(
-            msg.contains(reason),
-            "{what}: no reason `{reason}` in `{msg}`"
-        );
-    }
-}
+use lopin_tests::{assert_clear_errors, asset, rel_diff, solve, velocity_history};
 
 /// Each malformed file gives an error naming the file, the field and the reason.
 #[test]
@@ -220,7 +192,7 @@ fn split_two_blocks_matches_unsplit() {
     let spec = scene::registry::builtin("two-blocks").expect("registry");
     let (s1, a) = solve(&spec, |s| s.tol = 1e-8);
     let mut split = spec.clone();
-    split.split(2);
+    split.split(2).expect("split");
     let (s2, b) = solve(&split, |s| s.tol = 1e-8);
     assert_eq!(s2.problem().subs.len(), 8);
     assert!(a.converged && b.converged);
@@ -596,7 +568,7 @@ fn malformed_granular_files_get_clear_errors() {
     assert_clear_errors(&good, &cases, "lopin-bad-granular");
     // `--split` has no meaning for a granular scene: the build says so
     let mut spec = scene::registry::builtin("granular-small").expect("registry");
-    spec.split(2);
+    spec.split(2).expect("split");
     let msg = scene::build::build(&spec, "scene granular-small")
         .expect_err("split")
         .to_string();

@@ -77,7 +77,7 @@ fn three(spec: &SceneSpec, tol: f64) -> Three {
 #[test]
 fn two_scale_equals_single_scale_and_the_reference_with_contact() {
     let mut spec = scene::load("two-blocks").expect("scene");
-    spec.split(2);
+    spec.split(2).expect("split");
     let Three {
         reference,
         mono,
@@ -139,7 +139,7 @@ fn two_scale_equals_single_scale_and_the_reference_with_contact() {
 #[test]
 fn single_scale_iterates_leave_a_macro_imbalance() {
     let mut spec = scene::load("two-blocks").expect("scene");
-    spec.split(2);
+    spec.split(2).expect("split");
     let (problem, mut s) = settings(&spec, 1e-3, true);
     let mut solver = Solver::new(problem, s).expect("setup");
     s.two_scale = false;

@@ -1,13 +1,21 @@
-//! `lopin estimate`: what a solve of a scene will hold and cost, without solving it: memory of
-//! the interface fields (METHOD §11), operators, factorizations and homogenized operators, the
-//! number of distinct factorizations, and the measured time of one iteration's triangular solves.
+//! `lopin estimate`: what a solve of a scene will hold and cost, without solving it. First,
+//! always and at once for any size, the footprint counted from the scene alone (sizes, memory of
+//! the interface fields of METHOD §11, operators, estimated factorizations) against this
+//! machine's memory (a request that cannot fit is refused with the numbers); then, for problems
+//! of at most [`MEASURED_DOFS`] dofs or with `--measure`, the problem is built and factorized for
+//! the exact memory, the number of distinct factorizations and the measured time of one
+//! iteration's triangular solves.
 
+use anyhow::Context;
 use clap::Args;
 use lopin_core::estimate::Estimate;
 use lopin_core::Solver;
 use serde::Serialize;
 
-use super::setup::{build, SceneArgs};
+use super::setup::{admitted, build, SceneArgs};
+
+/// Largest problem measured (built and factorized) without `--measure`.
+pub const MEASURED_DOFS: usize = 200_000;
 
 /// Options of `lopin estimate`.
 #[derive(Debug, Args)]
@@ -17,25 +25,57 @@ pub struct EstimateArgs {
     /// Print one JSON object instead of lines.
     #[arg(long)]
     pub json: bool,
+    /// Also build and factorize a problem of more than 200,000 dofs for the exact memory and
+    /// the measured iteration time (smaller problems always are).
+    #[arg(long)]
+    pub measure: bool,
 }
 
 pub fn estimate(args: &EstimateArgs) -> anyhow::Result<std::process::ExitCode> {
+    // counted from the scene alone: answers at once however large, refuses what cannot fit
+    let counted = admitted(&args.scene)?;
+    let fp = counted.footprint;
+    if !args.json {
+        println!("{} ({})", counted.spec.name, args.scene.scene);
+        for line in fp.lines() {
+            println!("  counted from the scene: {line}");
+        }
+        println!("  fits this machine's memory");
+    }
+    if fp.dofs > MEASURED_DOFS && !args.measure {
+        if args.json {
+            let json = EstimateReport {
+                footprint: &fp,
+                measured: None,
+            };
+            println!("{}", serde_json::to_string_pretty(&json)?);
+        } else {
+            println!(
+                "  (more than {MEASURED_DOFS} dofs: add --measure to build and factorize it for \
+                 the exact memory and the time per iteration)"
+            );
+        }
+        return Ok(std::process::ExitCode::SUCCESS);
+    }
     let built = build(&args.scene)?;
-    let solver = Solver::new(built.problem, built.settings)?;
+    let solver = Solver::new(built.problem, built.settings)
+        .with_context(|| format!("{}: setting up the solver", counted.source))?;
     let e = Estimate::of_solver(&solver);
     if args.json {
         let json = EstimateReport {
-            estimate: &e,
-            total_bytes: e.total_bytes(),
-            setup_s: solver.counters().setup_s + built.build_s,
-            macro_dofs: solver.macro_problem().map(|mp| mp.size),
-            homogenized_operators: solver.macro_problem().map(|mp| mp.classes.count()),
+            footprint: &fp,
+            measured: Some(Measured {
+                estimate: &e,
+                total_bytes: e.total_bytes(),
+                setup_s: solver.counters().setup_s + built.build_s,
+                macro_dofs: solver.macro_problem().map(|mp| mp.size),
+                homogenized_operators: solver.macro_problem().map(|mp| mp.classes.count()),
+            }),
         };
         println!("{}", serde_json::to_string_pretty(&json)?);
     } else {
-        println!("{} ({})", built.spec.name, args.scene.scene);
         for line in e.lines() {
-            println!("  {line}");
+            println!("  built and measured: {line}");
         }
         if let Some(mp) = solver.macro_problem() {
             println!(
@@ -59,9 +99,18 @@ pub fn estimate(args: &EstimateArgs) -> anyhow::Result<std::process::ExitCode> {
     Ok(std::process::ExitCode::SUCCESS)
 }
 
-/// The `--json` object: the core's estimate and what only the solver knows.
+/// The `--json` object: the footprint counted from the scene, and what building and
+/// factorizing measured (absent for problems over [`MEASURED_DOFS`] without `--measure`).
 #[derive(Serialize)]
 struct EstimateReport<'a> {
+    footprint: &'a lopin_core::scene::admission::Footprint,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    measured: Option<Measured<'a>>,
+}
+
+/// The core's estimate of a factorized solver and what only the solver knows.
+#[derive(Serialize)]
+struct Measured<'a> {
     #[serde(flatten)]
     estimate: &'a Estimate,
     total_bytes: usize,

@@ -1,6 +1,9 @@
 //! `lopin export RUN_DIR`: VTU files and/or a Rerun recording from a run saved with
 //! `lopin run --out RUN_DIR`, without solving again: the solver is rebuilt from run.json and
-//! the fields are replayed from the stored ŝ (METHOD §6 "at convergence").
+//! the fields are replayed from the stored ŝ (METHOD §6 "at convergence"). `solution.bin` is
+//! checked whole before anything is written: checksum, shapes, finite values, and that it
+//! belongs to run.json's scene and settings ([`RunRecord::fingerprint`]); a damaged or
+//! foreign file is an error naming it.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -12,7 +15,7 @@ use lopin_core::counters::Instant;
 use super::outputs::{describe, RerunArgs, FLUSH_TIMEOUT};
 use crate::export;
 use crate::run_dir::run_json::RunRecord;
-use crate::run_dir::{solution_file, SOLUTION_BIN};
+use crate::run_dir::SOLUTION_BIN;
 
 /// Options of `lopin export`.
 #[derive(Debug, Args)]
@@ -40,16 +43,17 @@ pub fn export_cmd(args: &ExportArgs) -> anyhow::Result<ExitCode> {
         args.run.display(),
         record.kind
     );
-    let mut solution = solution_file::read_solution(&args.run.join(SOLUTION_BIN))?;
+    let bin = args.run.join(SOLUTION_BIN);
+    let mut solution = record.read_solution(&args.run)?;
     let solver = record.solver()?;
     solution
         .state
         .check_fits(solver.problem())
-        .with_context(|| format!("{}: does not fit run.json's scene", SOLUTION_BIN))?;
+        .with_context(|| format!("{}: does not fit run.json's scene", bin.display()))?;
     anyhow::ensure!(
         solution.hats.len() == solver.problem().interfaces.len(),
         "{}: {} interfaces stored, the scene has {}",
-        SOLUTION_BIN,
+        bin.display(),
         solution.hats.len(),
         solver.problem().interfaces.len()
     );

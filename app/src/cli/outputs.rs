@@ -75,6 +75,30 @@ pub struct OutputArgs {
     pub rerun: RerunArgs,
 }
 
+impl OutputArgs {
+    /// Checks before any solving that every output folder can be one: an existing path that
+    /// is not a folder is an error naming the option and the path.
+    pub fn check_paths(&self) -> anyhow::Result<()> {
+        for (option, dir) in [("--out", &self.out), ("--vtu", &self.vtu)] {
+            if let Some(dir) = dir {
+                check_dir(option, dir)?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// An output folder option: a path that exists must be a folder.
+pub fn check_dir(option: &str, dir: &std::path::Path) -> anyhow::Result<()> {
+    if dir.exists() && !dir.is_dir() {
+        anyhow::bail!(
+            "{option} {}: exists and is not a folder (give a new or existing folder)",
+            dir.display()
+        );
+    }
+    Ok(())
+}
+
 /// The markdown a recording stores: provenance, command, settings, sizes and the scene.
 pub fn describe(kind: &str, spec: &SceneSpec, solver: &Solver, extra: &str) -> String {
     let p = solver.problem();

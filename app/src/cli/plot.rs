@@ -33,12 +33,14 @@ pub fn convergence(path: &Path, records: &[ValueRecord], param: Parameter) -> an
         changes.push((it, r.value));
         for &e in &r.eta_history {
             it += 1;
-            warm.push((it as f64, e.max(1e-16)));
+            if e.is_finite() {
+                warm.push((it as f64, e.max(1e-16)));
+            }
         }
     }
     let total = it.max(1) as f64;
     let ymin = warm.iter().map(|p| p.1).fold(1.0f64, f64::min).max(1e-16) / 2.0;
-    let ymax = warm.iter().map(|p| p.1).fold(1e-3f64, f64::max) * 2.0;
+    let ymax = warm.iter().map(|p| p.1).fold(1e-3f64, f64::max).min(1e300) * 2.0;
     let root = BitMapBackend::new(path, (1000, 560)).into_drawing_area();
     root.fill(&WHITE).map_err(err)?;
     let mut chart = ChartBuilder::on(&root)
@@ -101,31 +103,33 @@ pub fn quantities(path: &Path, records: &[ValueRecord], param: Parameter) -> any
     root.fill(&WHITE).map_err(err)?;
     let panels = root.split_evenly((1, 3));
     let xs: Vec<f64> = records.iter().map(|r| r.value).collect();
-    let (xmin, xmax) = xs
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
-            (a.min(x), b.max(x))
-        });
-    let pad = ((xmax - xmin) * 0.05).max(1e-12);
     let series: [Panel; 3] = [
         ("peak normal force (N)", |r| r.peak_normal_force),
         ("max slip (m)", |r| r.max_slip),
         ("energy at the end (J)", |r| r.energy_end),
     ];
     for (area, (title, f)) in panels.iter().zip(series) {
-        let ys: Vec<f64> = records.iter().map(f).collect();
-        let (ymin, ymax) = ys
+        // only finite points are drawn; a panel with none says so instead of a broken axis
+        let points: Vec<(f64, f64)> = xs
             .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &y| {
-                (a.min(y), b.max(y))
-            });
-        let ypad = ((ymax - ymin) * 0.1).max(ymax.abs() * 1e-3).max(1e-30);
+            .copied()
+            .zip(records.iter().map(f))
+            .filter(|(x, y)| x.is_finite() && y.is_finite())
+            .collect();
+        let (Some(xr), Some(yr)) = (
+            padded_range(points.iter().map(|p| p.0), 0.05),
+            padded_range(points.iter().map(|p| p.1), 0.1),
+        ) else {
+            area.titled(&format!("{title}: no finite values"), ("sans-serif", 18))
+                .map_err(err)?;
+            continue;
+        };
         let mut chart = ChartBuilder::on(area)
             .caption(title, ("sans-serif", 18))
             .margin(12)
             .x_label_area_size(40)
             .y_label_area_size(75)
-            .build_cartesian_2d((xmin - pad)..(xmax + pad), (ymin - ypad)..(ymax + ypad))
+            .build_cartesian_2d(xr, yr)
             .map_err(err)?;
         chart
             .configure_mesh()
@@ -136,18 +140,33 @@ pub fn quantities(path: &Path, records: &[ValueRecord], param: Parameter) -> any
             .map_err(err)?;
         chart
             .draw_series(LineSeries::new(
-                xs.iter().copied().zip(ys.iter().copied()),
+                points.iter().copied(),
                 BLUE.stroke_width(2),
             ))
             .map_err(err)?;
         chart
             .draw_series(
-                xs.iter()
-                    .zip(&ys)
-                    .map(|(&x, &y)| Circle::new((x, y), 4, BLUE.filled())),
+                points
+                    .iter()
+                    .map(|&(x, y)| Circle::new((x, y), 4, BLUE.filled())),
             )
             .map_err(err)?;
     }
     root.present().map_err(err)?;
     Ok(())
+}
+
+/// The range of finite values, padded by `share` of its width (or of its magnitude when all are
+/// equal); None when there is no finite value or the padded range is not finite.
+fn padded_range(values: impl Iterator<Item = f64>, share: f64) -> Option<std::ops::Range<f64>> {
+    let (lo, hi) = values
+        .filter(|v| v.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+            (a.min(v), b.max(v))
+        });
+    let pad = ((hi - lo) * share)
+        .max(hi.abs().max(lo.abs()) * 1e-3)
+        .max(1e-30);
+    let range = (lo - pad)..(hi + pad);
+    (range.start.is_finite() && range.end.is_finite() && range.start < range.end).then_some(range)
 }

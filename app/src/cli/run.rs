@@ -4,10 +4,11 @@
 
 use std::process::ExitCode;
 
+use anyhow::Context;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use lopin_core::counters::Instant;
-use lopin_core::{post, Control};
+use lopin_core::{post, scene, Control};
 use serde::Serialize;
 
 use super::outputs::{describe, OutputArgs, FLUSH_TIMEOUT};
@@ -15,7 +16,6 @@ use super::report::{Latin, RunReport, SolveReport};
 use super::setup::{prepare, SceneArgs};
 use crate::export;
 use crate::run_dir::run_json::{Outcome, RunRecord};
-use crate::run_dir::{solution_file, write_atomic, SOLUTION_BIN};
 
 /// Options of `lopin run`.
 #[derive(Debug, Args)]
@@ -31,6 +31,7 @@ pub struct RunArgs {
 
 pub fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     let start = Instant::now();
+    args.outputs.check_paths()?;
     let mut prepared = prepare(&args.scene)?;
     let spec = &prepared.spec;
     let solver = &mut prepared.solver;
@@ -56,8 +57,10 @@ pub fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
             record_error = rec.iteration(r).err();
         }
         Control::Continue
-    })?;
+    });
     bar.finish_and_clear();
+    let solution =
+        solution.with_context(|| format!("{}: solving", scene::source_label(&args.scene.scene)))?;
     if let Some(e) = record_error {
         return Err(e.context("recording the iterations"));
     }
@@ -112,14 +115,9 @@ pub fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     });
     record.set_timings(solver, start.elapsed().as_secs_f64(), outputs_s);
     if let Some(dir) = &args.outputs.out {
-        std::fs::create_dir_all(dir)?;
-        write_atomic(
-            &dir.join(SOLUTION_BIN),
-            &solution_file::encode_solution(&solution),
-        )?;
-        let mut r = record.clone();
-        r.files = vec![SOLUTION_BIN.into()];
-        r.write(dir)?;
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("--out {}: creating the folder", dir.display()))?;
+        record.write_with_solution(dir, &solution)?;
         written.out = Some(dir.display().to_string());
     }
     if let Some(dir) = &args.outputs.vtu {

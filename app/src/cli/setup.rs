@@ -5,7 +5,8 @@ use anyhow::Context;
 use clap::Args;
 use lopin_core::counters::Instant;
 use lopin_core::estimate::Estimate;
-use lopin_core::{scene, Parameter, Problem, Settings, Solver};
+use lopin_core::scene::admission::{admit, Footprint, SolveShape};
+use lopin_core::{scene, LopinError, Parameter, Problem, Settings, Solver};
 
 /// Options shared by the commands that solve a scene.
 #[derive(Debug, Clone, Args)]
@@ -13,33 +14,48 @@ pub struct SceneArgs {
     /// Built-in scene name (see `lopin scenes`) or path to a .toml scene file.
     pub scene: String,
     /// Friction coefficient of every contact interface.
-    #[arg(long = "f")]
+    #[arg(long = "f", allow_hyphen_values = true)]
     pub friction: Option<f64>,
     /// Stopping tolerance on the error indicator η (default 1e-3).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub tol: Option<f64>,
     /// Search direction k in Pa·s/m (default: mean of sqrt(rho E) over the materials).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub k: Option<f64>,
     /// Relaxation μ in (0, 1] (default 0.8).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub mu: Option<f64>,
     /// Multiply the mesh divisions by K.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     pub refine: usize,
     /// Multiply the number of substructures per body by N (along the scene's split axes).
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     pub split: usize,
     /// Time-window length in steps (1 = incremental; default: whole interval).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub window: Option<usize>,
     /// Iteration limit (per window).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub max_iter: Option<usize>,
     /// Two-scale linear stage with the macro problem of METHOD §9 (default: the scene's
     /// `solver.macro`, else off).
     #[arg(long = "macro", value_enum)]
     pub two_scale: Option<Switch>,
+}
+
+impl SceneArgs {
+    /// How the solve will run, as far as memory is concerned: the options, else the scene's
+    /// `[solver]` table.
+    pub fn shape(&self, spec: &scene::SceneSpec) -> SolveShape {
+        let mut shape = SolveShape::of_scene(spec);
+        if let Some(w) = self.window {
+            shape.window = Some(w);
+        }
+        if let Some(s) = self.two_scale {
+            shape.two_scale = s == Switch::On;
+        }
+        shape
+    }
 }
 
 /// An on/off command-line switch.
@@ -60,27 +76,93 @@ pub struct Prepared {
 /// A built problem, its resolved scene and the LATIN settings the options ask for.
 pub struct Built {
     pub spec: scene::SceneSpec,
+    /// The sizes and memory of the solve, counted from the scene before building it.
+    pub footprint: Footprint,
     pub problem: Problem,
     pub settings: Settings,
     /// Seconds spent loading and building.
     pub build_s: f64,
 }
 
-/// Loads and builds the problem and resolves the settings (no factorization).
-pub fn build(args: &SceneArgs) -> anyhow::Result<Built> {
-    let start = Instant::now();
+/// A scene loaded, refined and split, and admitted: its footprint fits this machine.
+pub struct Admitted {
+    pub spec: scene::SceneSpec,
+    /// How errors name the scene (`scene NAME` or the file path).
+    pub source: String,
+    pub footprint: Footprint,
+}
+
+/// Loads the scene, applies `--refine`, `--split` and `--f`, and counts what a solve will hold
+/// from the scene alone ([`admit`]): nothing large is allocated before the request is known to
+/// fit, and a refusal gives the numbers and what would fit.
+pub fn admitted(args: &SceneArgs) -> anyhow::Result<Admitted> {
     let mut spec = scene::load(&args.scene)?;
     anyhow::ensure!(args.refine >= 1, "--refine must be at least 1");
     anyhow::ensure!(args.split >= 1, "--split must be at least 1");
-    spec.refine(args.refine);
-    spec.split(args.split);
+    spec.refine(args.refine)
+        .with_context(|| format!("--refine {}", args.refine))?;
+    spec.split(args.split)
+        .with_context(|| format!("--split {}", args.split))?;
+    let source = scene::source_label(&args.scene);
+    // nothing large is allocated before the request is known to fit
+    let footprint = scene::build::validate(&spec, &source)
+        .and_then(|()| admit(&spec, &source, args.shape(&spec)))
+        .map_err(|e| match &e {
+            LopinError::TooLarge { .. } => match largest_refine_that_fits(args) {
+                Some(r) => anyhow::anyhow!("{e}; with this scene, --refine {r} fits"),
+                None => anyhow::Error::new(e),
+            },
+            _ => anyhow::Error::new(e),
+        })?;
     if let Some(f) = args.friction {
         Parameter::Friction
             .check(f)
             .map_err(|_| anyhow::anyhow!("--f must be a non-negative number, got {f}"))?;
         spec.set_friction(f);
     }
-    let problem = scene::build::build(&spec, &scene::source_label(&args.scene))?;
+    Ok(Admitted {
+        spec,
+        source,
+        footprint,
+    })
+}
+
+/// The largest `--refine` below the one asked for whose solve fits this machine (None when the
+/// request has no refinement to lower or even `--refine 1` does not fit).
+fn largest_refine_that_fits(args: &SceneArgs) -> Option<usize> {
+    let base = scene::load(&args.scene).ok()?;
+    let source = scene::source_label(&args.scene);
+    let fits = |r: usize| {
+        let mut spec = base.clone();
+        spec.refine(r).is_ok()
+            && spec.split(args.split).is_ok()
+            && admit(&spec, &source, args.shape(&spec)).is_ok()
+    };
+    if args.refine <= 1 || !fits(1) {
+        return None;
+    }
+    // the memory grows with the refinement: bisect between a fitting and a refused value
+    let (mut lo, mut hi) = (1, args.refine);
+    while hi - lo > 1 {
+        let mid = lo + (hi - lo) / 2;
+        if fits(mid) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    Some(lo)
+}
+
+/// Loads and builds the problem and resolves the settings (no factorization).
+pub fn build(args: &SceneArgs) -> anyhow::Result<Built> {
+    let start = Instant::now();
+    let Admitted {
+        spec,
+        source,
+        footprint,
+    } = admitted(args)?;
+    let problem = scene::build::build(&spec, &source)?;
     let mut settings = Settings::for_problem(&problem, &spec.solver);
     if let Some(v) = args.tol {
         settings.tol = v;
@@ -102,6 +184,7 @@ pub fn build(args: &SceneArgs) -> anyhow::Result<Built> {
     }
     Ok(Built {
         spec,
+        footprint,
         problem,
         settings,
         build_s: start.elapsed().as_secs_f64(),
@@ -112,14 +195,16 @@ pub fn build(args: &SceneArgs) -> anyhow::Result<Built> {
 /// estimate printed on stderr before the factorization, and its time estimate after.
 pub fn prepare(args: &SceneArgs) -> anyhow::Result<Prepared> {
     let built = build(args)?;
-    let early = Estimate::of(&built.problem, &built.settings);
-    let large = early.is_large();
+    let counted = &built.footprint;
+    let large = counted.dofs > 200_000 || counted.total_bytes() > 1 << 30;
     if large {
-        for line in early.lines() {
+        for line in counted.lines() {
             eprintln!("estimate: {line}");
         }
     }
-    let mut solver = Solver::new(built.problem, built.settings).context("setting up the solver")?;
+    let source = scene::source_label(&args.scene);
+    let mut solver = Solver::new(built.problem, built.settings)
+        .with_context(|| format!("{source}: setting up the solver"))?;
     solver.add_setup_time(built.build_s);
     if large {
         for line in Estimate::of_solver(&solver).lines().iter().skip(1) {

@@ -1,6 +1,11 @@
-//! What a run or sweep directory holds besides its results: `run.json` (how it was made,
-//! [`run_json`]) and the binary interface fields ([`solution_file`]).
+//! What a run or sweep directory holds besides its results, and how Lopin knows that what it
+//! reads back is intact and belongs there: `run.json` (how it was made, [`run_json`]), the
+//! binary interface fields with their fingerprint and checksum ([`solution_file`]), the
+//! fingerprint of what a file belongs to and the crc32 checksums ([`fingerprint`]), and JSON
+//! files that carry their own checksum ([`checked_json`], the sweep's header and records).
 
+pub mod checked_json;
+pub mod fingerprint;
 pub mod run_json;
 pub mod solution_file;
 

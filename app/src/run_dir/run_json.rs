@@ -1,12 +1,17 @@
 //! `run.json`: how a run or sweep directory was made, so it can be reproduced: the resolved
 //! scene (after --refine, --split, --f), the LATIN settings (METHOD §10), the problem's sizes,
 //! the Lopin version and commit, the command line, the outcome and the timings. `lopin export`
-//! rebuilds the solver from it.
+//! rebuilds the solver from it, and checks that `solution.bin` belongs to it: the file carries
+//! the [`Fingerprint`] of run.json's scene and settings ([`RunRecord::fingerprint`]).
+//! Writing run.json is the run directory's commit point: a `solution.bin` it lists is bound to
+//! it then if it was written unbound.
 
+use super::fingerprint::{self, Fingerprint};
+use super::solution_file;
 use crate::build_info;
 use anyhow::Context;
 use lopin_core::scene::{self, SceneSpec};
-use lopin_core::{Problem, Settings, Solver};
+use lopin_core::{Problem, Settings, Solution, Solver};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -142,6 +147,31 @@ impl RunRecord {
         };
     }
 
+    /// What this run's `solution.bin` belongs to: its scene and settings as read from
+    /// run.json ([`fingerprint::of_run`]).
+    pub fn fingerprint(&self) -> Fingerprint {
+        fingerprint::of_run(&self.scene, &self.settings)
+    }
+
+    /// [`Self::fingerprint`] of this record as a reader of its run.json will see it (numbers
+    /// written in JSON may read back different in the last bit, so the record is hashed as
+    /// read back).
+    pub fn fingerprint_as_saved(&self) -> anyhow::Result<Fingerprint> {
+        /// The part of run.json the fingerprint covers.
+        #[derive(Serialize, Deserialize)]
+        struct Identity {
+            scene: SceneSpec,
+            settings: Settings,
+        }
+        let text = serde_json::to_string(&Identity {
+            scene: self.scene.clone(),
+            settings: self.settings,
+        })?;
+        let back: Identity = serde_json::from_str(&text)
+            .context("run.json's scene and settings do not read back")?;
+        Ok(fingerprint::of_run(&back.scene, &back.settings))
+    }
+
     /// Writes `dir/run.json` (temporary file, then rename).
     pub fn write(&self, dir: &Path) -> anyhow::Result<()> {
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
@@ -149,6 +179,23 @@ impl RunRecord {
             &dir.join(RUN_JSON),
             serde_json::to_string_pretty(self)?.as_bytes(),
         )
+    }
+
+    /// Writes `dir/solution.bin` bound to this record, then `dir/run.json` listing it.
+    pub fn write_with_solution(&self, dir: &Path, solution: &Solution) -> anyhow::Result<()> {
+        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+        super::write_atomic(
+            &dir.join(super::SOLUTION_BIN),
+            &solution_file::encode_solution_for(solution, self.fingerprint_as_saved()?),
+        )?;
+        let mut r = self.clone();
+        r.files = vec![super::SOLUTION_BIN.into()];
+        r.write(dir)
+    }
+
+    /// Reads `dir/solution.bin`, which must belong to this record.
+    pub fn read_solution(&self, dir: &Path) -> anyhow::Result<Solution> {
+        solution_file::read_solution(&dir.join(super::SOLUTION_BIN), self.fingerprint())
     }
 
     /// Reads `dir/run.json`.

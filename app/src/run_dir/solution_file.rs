@@ -1,10 +1,24 @@
 //! Binary files of interface fields, through serde and postcard: a sweep value's warm-start
 //! state s = (F, W) (`value-NNN.state`, METHOD §8) and a run's converged solution, s and
 //! ŝ = (F̂, Ŵ) of every interface side (`solution.bin`, METHOD §6), from which `lopin export`
-//! replays the fields without solving again. Each file starts with an 8-byte magic naming its
-//! kind and format version (`LOPINST2`, `LOPINSO2`); a file of another kind, of an older
-//! format (`…1`, Lopin's hand-written codec) or not Lopin's at all is refused with that said.
-//! The core's [`InterfaceState`] and [`TraceHistory`] are written through mirror types.
+//! replays the fields without solving again. The core's [`InterfaceState`] and
+//! [`TraceHistory`] are written through mirror types.
+//!
+//! Format 3, the layout of both kinds:
+//!
+//! | bytes | holds |
+//! |---|---|
+//! | 8 | magic naming kind and format: `LOPINST3` (state), `LOPINSO3` (solution) |
+//! | 8 | the [`Fingerprint`] of the scene and settings the file belongs to (u64, little-endian) |
+//! | … | the postcard body |
+//! | 4 | crc32 of everything before it (u32, little-endian) |
+//!
+//! Reading checks, in this order, each with its own error: a header at all; the magic (a file
+//! of another kind, of an older format — `…2` without checksum, `…1` Lopin's hand-written
+//! codec — or not Lopin's at all is refused with that said); the checksum; the body; no
+//! trailing bytes; the shapes (F and W of each trace hold `len` values per step); every value
+//! finite (the error names the trace, the step and F or W); and last the fingerprint against
+//! the one the caller expects. Nothing that fails one of these reaches the solver.
 
 use std::borrow::Cow;
 use std::path::Path;
@@ -14,10 +28,16 @@ use lopin_core::state::{InterfaceState, TraceHistory};
 use lopin_core::Solution;
 use serde::{Deserialize, Serialize};
 
-/// Magic of a warm-start state file, format 2 (postcard).
-const STATE_MAGIC: [u8; 8] = *b"LOPINST2";
-/// Magic of a solution file, format 2 (postcard).
-const SOLUTION_MAGIC: [u8; 8] = *b"LOPINSO2";
+use super::fingerprint::{crc32, Fingerprint};
+
+/// Magic of a warm-start state file, format 3 (fingerprint, postcard, crc32).
+const STATE_MAGIC: [u8; 8] = *b"LOPINST3";
+/// Magic of a solution file, format 3 (fingerprint, postcard, crc32).
+const SOLUTION_MAGIC: [u8; 8] = *b"LOPINSO3";
+/// Magic and fingerprint.
+const HEADER: usize = 16;
+/// The crc32.
+const TRAILER: usize = 4;
 
 /// One trace history: `len` values per step, F and W over steps 0..=N.
 #[derive(Serialize, Deserialize)]
@@ -99,19 +119,25 @@ impl State<'_> {
     }
 }
 
-/// The magic, then the body.
-fn encode<T: Serialize>(magic: [u8; 8], body: &T) -> Vec<u8> {
+/// The magic, the fingerprint, the body, then the crc32 of all that.
+fn encode<T: Serialize>(magic: [u8; 8], belongs_to: Fingerprint, body: &T) -> Vec<u8> {
+    let mut head = magic.to_vec();
+    head.extend_from_slice(&belongs_to.0.to_le_bytes());
     // postcard writes into a Vec without failing for these types
-    postcard::to_extend(body, magic.to_vec()).unwrap_or_else(|e| unreachable!("postcard: {e}"))
+    let mut out = postcard::to_extend(body, head).unwrap_or_else(|e| unreachable!("postcard: {e}"));
+    let sum = crc32(&out);
+    out.extend_from_slice(&sum.to_le_bytes());
+    out
 }
 
-/// Checks the magic and decodes the body, which must end the file.
+/// Checks the header, the magic and the checksum, and decodes the body, which must end the
+/// file. Returns the stored fingerprint and the body.
 fn decode<'a, T: Deserialize<'a>>(
     magic: [u8; 8],
     what: &str,
     bytes: &'a [u8],
-) -> anyhow::Result<T> {
-    let Some((head, body)) = bytes.split_first_chunk::<8>() else {
+) -> anyhow::Result<(Fingerprint, T)> {
+    let Some((head, _)) = bytes.split_first_chunk::<8>() else {
         bail!("truncated: {} bytes, no header", bytes.len());
     };
     if *head != magic {
@@ -130,27 +156,88 @@ fn decode<'a, T: Deserialize<'a>>(
             String::from_utf8_lossy(&magic)
         );
     }
-    let (value, rest) = postcard::take_from_bytes(body).context("truncated or damaged")?;
-    if !rest.is_empty() {
-        bail!("{} trailing bytes", rest.len());
+    if bytes.len() < HEADER + TRAILER {
+        bail!(
+            "truncated: {} bytes, shorter than the header and checksum ({} bytes)",
+            bytes.len(),
+            HEADER + TRAILER
+        );
     }
-    Ok(value)
+    let (content, trailer) = bytes.split_at(bytes.len() - TRAILER);
+    let stored = u32::from_le_bytes(trailer.try_into()?);
+    let computed = crc32(content);
+    if stored != computed {
+        bail!(
+            "checksum mismatch (stored {stored:08x}, computed {computed:08x}): the file is damaged"
+        );
+    }
+    let belongs_to = Fingerprint(u64::from_le_bytes(content[8..HEADER].try_into()?));
+    let (value, rest) = postcard::take_from_bytes(&content[HEADER..])
+        .context("the body does not decode (written by another program?)")?;
+    if !rest.is_empty() {
+        bail!("{} trailing bytes after the body", rest.len());
+    }
+    Ok((belongs_to, value))
 }
 
-/// Encodes a warm-start state.
-pub fn encode_state(s: &InterfaceState) -> Vec<u8> {
-    encode(STATE_MAGIC, &State::from(s))
+/// The stored fingerprint must be the expected one.
+fn check_belongs(stored: Fingerprint, expected: Fingerprint) -> anyhow::Result<()> {
+    if stored == expected {
+        return Ok(());
+    }
+    bail!("belongs to another scene or settings (hash {stored}, expected {expected})");
 }
 
-/// Decodes a warm-start state.
-pub fn decode_state(bytes: &[u8]) -> anyhow::Result<InterfaceState> {
-    decode::<State>(STATE_MAGIC, "state", bytes)?.state()
+/// Every value of a history is finite; the error names `what`, F or W and the step.
+fn check_finite(h: &TraceHistory, what: &str, [f, w]: [&str; 2]) -> anyhow::Result<()> {
+    for (name, values) in [(f, &h.f), (w, &h.w)] {
+        if let Some(i) = values.iter().position(|v| !v.is_finite()) {
+            bail!(
+                "non-finite value {} in {name} of {what} at step {}",
+                values[i],
+                i / h.len.max(1)
+            );
+        }
+    }
+    Ok(())
 }
 
-/// Encodes a converged solution: iterations, η, convergence flag, s, then ŝ per interface side.
-pub fn encode_solution(sol: &Solution) -> Vec<u8> {
+/// Every value of a state is finite.
+fn check_state_finite(s: &InterfaceState) -> anyhow::Result<()> {
+    for (i, h) in s.subs.iter().enumerate() {
+        check_finite(h, &format!("trace {i}"), ["F", "W"])?;
+    }
+    Ok(())
+}
+
+/// The checksum that names a state or solution file's content: the crc32 of everything before
+/// its 4-byte trailer, i.e. the value a valid file ends with. (The crc32 of a whole file, which
+/// ends with its own crc32, is the same constant, 2144df1c, for every valid file.)
+pub fn file_checksum(bytes: &[u8]) -> u32 {
+    crc32(&bytes[..bytes.len().saturating_sub(TRAILER)])
+}
+
+/// Encodes a warm-start state that belongs to `belongs_to`.
+pub fn encode_state(s: &InterfaceState, belongs_to: Fingerprint) -> Vec<u8> {
+    encode(STATE_MAGIC, belongs_to, &State::from(s))
+}
+
+/// Decodes a warm-start state, checked whole (see the module doc), that must belong to
+/// `expected`.
+pub fn decode_state(bytes: &[u8], expected: Fingerprint) -> anyhow::Result<InterfaceState> {
+    let (belongs_to, body) = decode::<State>(STATE_MAGIC, "state", bytes)?;
+    let state = body.state()?;
+    check_state_finite(&state)?;
+    check_belongs(belongs_to, expected)?;
+    Ok(state)
+}
+
+/// Encodes a converged solution that belongs to `belongs_to` ([`super::fingerprint::of_run`]
+/// of its scene and settings): iterations, η, convergence flag, s, then ŝ per interface side.
+pub fn encode_solution_for(sol: &Solution, belongs_to: Fingerprint) -> Vec<u8> {
     encode(
         SOLUTION_MAGIC,
+        belongs_to,
         &SolutionBody {
             iterations: sol.iterations,
             eta: sol.eta,
@@ -165,9 +252,10 @@ pub fn encode_solution(sol: &Solution) -> Vec<u8> {
     )
 }
 
-/// Decodes a converged solution (η history is not stored: run.json holds it).
-pub fn decode_solution(bytes: &[u8]) -> anyhow::Result<Solution> {
-    let body: SolutionBody = decode(SOLUTION_MAGIC, "solution", bytes)?;
+/// Decodes a converged solution (η history is not stored: run.json holds it), checked whole
+/// (see the module doc), that must belong to `expected`.
+pub fn decode_solution(bytes: &[u8], expected: Fingerprint) -> anyhow::Result<Solution> {
+    let (belongs_to, body): (_, SolutionBody) = decode(SOLUTION_MAGIC, "solution", bytes)?;
     let state = body.state.state()?;
     let steps = state.steps;
     let hats = body
@@ -180,6 +268,16 @@ pub fn decode_solution(bytes: &[u8]) -> anyhow::Result<Solution> {
                 .collect::<anyhow::Result<Vec<_>>>()
         })
         .collect::<anyhow::Result<Vec<_>>>()?;
+    if !body.eta.is_finite() {
+        bail!("non-finite η {}", body.eta);
+    }
+    check_state_finite(&state)?;
+    for (e, sides) in hats.iter().enumerate() {
+        for (k, h) in sides.iter().enumerate() {
+            check_finite(h, &format!("interface {e} side {k}"), ["F̂", "Ŵ"])?;
+        }
+    }
+    check_belongs(belongs_to, expected)?;
     Ok(Solution {
         state,
         hats,
@@ -191,16 +289,18 @@ pub fn decode_solution(bytes: &[u8]) -> anyhow::Result<Solution> {
     })
 }
 
-/// Reads and decodes a solution file, naming the file in errors.
-pub fn read_solution(path: &Path) -> anyhow::Result<Solution> {
+/// Reads and decodes a solution file that must belong to `expected`; errors name the file.
+pub fn read_solution(path: &Path, expected: Fingerprint) -> anyhow::Result<Solution> {
     let bytes = std::fs::read(path).with_context(|| format!("reading {}", path.display()))?;
-    decode_solution(&bytes)
-        .with_context(|| format!("{}: not a Lopin solution file", path.display()))
+    decode_solution(&bytes, expected).with_context(|| path.display().to_string())
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    const MINE: Fingerprint = Fingerprint(0x0123_4567_89ab_cdef);
+    const OTHER: Fingerprint = Fingerprint(0xfedc_ba98_7654_3210);
 
     fn history(len: usize, seed: f64) -> TraceHistory {
         TraceHistory {
@@ -210,20 +310,15 @@ mod tests {
         }
     }
 
-    #[test]
-    fn state_round_trips_and_truncation_is_an_error() {
-        let s = InterfaceState {
+    fn state() -> InterfaceState {
+        InterfaceState {
             steps: 2,
             subs: vec![history(1, 1.5), history(2, -3.0)],
-        };
-        let b = encode_state(&s);
-        assert_eq!(decode_state(&b).expect("decodes"), s);
-        assert!(decode_state(&b[..b.len() - 1]).is_err());
+        }
     }
 
-    #[test]
-    fn solution_round_trips_and_damage_is_an_error() {
-        let sol = Solution {
+    fn solution() -> Solution {
+        Solution {
             state: InterfaceState {
                 steps: 2,
                 subs: vec![history(3, 1.0), history(3, 2.0)],
@@ -237,37 +332,163 @@ mod tests {
             eta_history: Vec::new(),
             converged: true,
             cancelled: false,
-        };
-        let b = encode_solution(&sol);
-        let back = decode_solution(&b).expect("decodes");
+        }
+    }
+
+    /// A file of `magic` with `body` as its postcard bytes and a valid checksum.
+    fn sealed(magic: [u8; 8], belongs_to: Fingerprint, body: &[u8]) -> Vec<u8> {
+        let mut out = magic.to_vec();
+        out.extend_from_slice(&belongs_to.0.to_le_bytes());
+        out.extend_from_slice(body);
+        let sum = crc32(&out);
+        out.extend_from_slice(&sum.to_le_bytes());
+        out
+    }
+
+    fn err<T: std::fmt::Debug>(r: anyhow::Result<T>) -> String {
+        format!("{:#}", r.expect_err("an error"))
+    }
+
+    #[test]
+    fn the_file_checksum_tells_valid_files_apart() {
+        let mut other = state();
+        other.subs[0].f[0] += 1.0;
+        let (a, b) = (encode_state(&state(), MINE), encode_state(&other, MINE));
+        // the crc32 of a whole file ending with its crc32 is a constant
+        assert_eq!(crc32(&a), crc32(&b));
+        assert_ne!(file_checksum(&a), file_checksum(&b));
+        assert_eq!(a[a.len() - 4..], file_checksum(&a).to_le_bytes());
+    }
+
+    #[test]
+    fn state_round_trips_with_its_fingerprint() {
+        let s = state();
+        let b = encode_state(&s, MINE);
+        assert_eq!(&b[..8], b"LOPINST3");
+        assert_eq!(b[8..16], MINE.0.to_le_bytes());
+        assert_eq!(decode_state(&b, MINE).expect("decodes"), s);
+    }
+
+    #[test]
+    fn solution_round_trips_with_its_fingerprint() {
+        let sol = solution();
+        let b = encode_solution_for(&sol, MINE);
+        assert_eq!(&b[..8], b"LOPINSO3");
+        let back = decode_solution(&b, MINE).expect("decodes");
         assert_eq!(back.state, sol.state);
         assert_eq!(back.hats, sol.hats);
         assert_eq!(
             (back.iterations, back.eta, back.converged),
             (17, 9.5e-4, true)
         );
-        assert!(decode_solution(&b[..b.len() - 8]).is_err());
+    }
+
+    #[test]
+    fn a_flipped_byte_in_the_body_is_caught_by_the_checksum() {
+        for b in [
+            encode_state(&state(), MINE),
+            encode_solution_for(&solution(), MINE),
+        ] {
+            for at in [HEADER, b.len() / 2, b.len() - TRAILER - 1, 9, b.len() - 1] {
+                let mut bad = b.clone();
+                bad[at] ^= 0x10;
+                let e = if bad[..8] == *b"LOPINST3" {
+                    err(decode_state(&bad, MINE))
+                } else {
+                    err(decode_solution(&bad, MINE))
+                };
+                assert!(
+                    e.starts_with("checksum mismatch (stored ")
+                        && e.ends_with("the file is damaged"),
+                    "byte {at}: {e}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn truncated_and_longer_files_are_errors() {
+        let b = encode_solution_for(&solution(), MINE);
+        assert!(err(decode_solution(&b[..5], MINE)).contains("no header"));
+        assert!(err(decode_solution(&b[..18], MINE)).contains("truncated: 18 bytes"));
+        assert!(err(decode_solution(&b[..b.len() - 8], MINE)).contains("checksum mismatch"));
         let mut longer = b.clone();
         longer.push(0);
-        assert!(decode_solution(&longer).is_err());
-        assert!(decode_solution(&encode_state(&sol.state)).is_err());
+        assert!(err(decode_solution(&longer, MINE)).contains("checksum mismatch"));
+        // a solution is not a state
+        assert!(err(decode_solution(&encode_state(&state(), MINE), MINE)).contains("bad magic"));
+    }
+
+    #[test]
+    fn a_body_that_does_not_decode_or_has_trailing_bytes_is_an_error_despite_its_checksum() {
+        let e = err(decode_state(&sealed(STATE_MAGIC, MINE, &[0xff; 12]), MINE));
+        assert!(e.contains("the body does not decode"), "{e}");
+        let body = postcard::to_stdvec(&State::from(&state())).expect("encodes");
+        let mut longer = body.clone();
+        longer.extend_from_slice(&[1, 2, 3]);
+        let e = err(decode_state(&sealed(STATE_MAGIC, MINE, &longer), MINE));
+        assert_eq!(e, "3 trailing bytes after the body");
+    }
+
+    #[test]
+    fn a_shape_that_does_not_match_its_steps_is_an_error_despite_its_checksum() {
+        let mut s = state();
+        s.subs[1].w.pop();
+        let body = postcard::to_stdvec(&State::from(&s)).expect("encodes");
+        let e = err(decode_state(&sealed(STATE_MAGIC, MINE, &body), MINE));
+        assert!(e.contains("holds 6 and 5 values over 3 steps"), "{e}");
+    }
+
+    #[test]
+    fn a_nan_written_with_a_valid_checksum_is_caught_by_the_finiteness_check() {
+        let mut s = state();
+        s.subs[1].f[2 * 2 + 1] = f64::NAN;
+        let e = err(decode_state(&encode_state(&s, MINE), MINE));
+        assert_eq!(e, "non-finite value NaN in F of trace 1 at step 2");
+        let mut s = state();
+        s.subs[0].w[1] = f64::NEG_INFINITY;
+        let e = err(decode_state(&encode_state(&s, MINE), MINE));
+        assert_eq!(e, "non-finite value -inf in W of trace 0 at step 1");
+        let mut sol = solution();
+        sol.hats[0][1].f[4] = f64::INFINITY;
+        let e = err(decode_solution(&encode_solution_for(&sol, MINE), MINE));
+        assert_eq!(
+            e,
+            "non-finite value inf in F̂ of interface 0 side 1 at step 1"
+        );
+        let mut sol = solution();
+        sol.state.subs[1].w[8] = f64::NAN;
+        let e = err(decode_solution(&encode_solution_for(&sol, MINE), MINE));
+        assert_eq!(e, "non-finite value NaN in W of trace 1 at step 2");
+    }
+
+    #[test]
+    fn a_file_of_another_scene_or_settings_is_refused() {
+        let e = err(decode_state(&encode_state(&state(), OTHER), MINE));
+        assert_eq!(
+            e,
+            format!("belongs to another scene or settings (hash {OTHER}, expected {MINE})")
+        );
+        let e = err(decode_solution(
+            &encode_solution_for(&solution(), OTHER),
+            MINE,
+        ));
+        assert!(e.starts_with("belongs to another scene or settings"), "{e}");
     }
 
     #[test]
     fn old_and_foreign_files_are_refused_by_their_header() {
-        let s = InterfaceState {
-            steps: 0,
-            subs: vec![history(1, 1.0)],
-        };
-        let mut old = encode_state(&s);
-        old[7] = b'1';
-        let e = format!("{:#}", decode_state(&old).expect_err("format 1"));
-        assert!(e.contains("format 1") && e.contains("LOPINST2"), "{e}");
-        let e = format!(
-            "{:#}",
-            decode_state(b"PK\x03\x04zipfile").expect_err("foreign")
+        let mut old = encode_state(&state(), MINE);
+        old[7] = b'2';
+        let e = err(decode_state(&old, MINE));
+        assert!(
+            e.contains("state file of format 2") && e.contains("LOPINST3") && e.contains("remake"),
+            "{e}"
         );
+        old[7] = b'1';
+        assert!(err(decode_state(&old, MINE)).contains("format 1"));
+        let e = err(decode_state(b"PK\x03\x04zipfile", MINE));
         assert!(e.contains("bad magic"), "{e}");
-        assert!(decode_state(b"LOP").is_err());
+        assert!(decode_state(b"LOP", MINE).is_err());
     }
 }

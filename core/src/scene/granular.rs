@@ -26,13 +26,17 @@ pub struct GranularSpec {
     /// Side L of the cube (m); its lower corner is the origin.
     pub side: f64,
     /// Cells along x, y, z.
+    #[serde(deserialize_with = "crate::scene::exact::exactly")]
     pub grid: [usize; 3],
     /// Hexahedra m along each edge of a cell (a cell has m × m × m).
     pub cell_elements: usize,
     /// Number of grains.
     pub grains: usize,
     /// Smallest and largest number of cells of a grain (each grain's size is drawn in between).
-    #[serde(default = "default_grain_cells")]
+    #[serde(
+        default = "default_grain_cells",
+        deserialize_with = "crate::scene::exact::exactly"
+    )]
     pub grain_cells: [usize; 2],
     /// Seed of the grain placement (the same seed always gives the same layout).
     #[serde(default = "default_seed")]
@@ -566,11 +570,11 @@ mod tests {
     #[test]
     fn refine_multiplies_the_cell_mesh_and_split_is_rejected() {
         let mut spec = small();
-        spec.refine(2);
+        spec.refine(2).expect("refine");
         assert_eq!(table(&mut spec).cell_elements, 6);
-        spec.split(1);
+        spec.split(1).expect("split");
         assert!(validate(&spec, "test").is_ok());
-        spec.split(2);
+        spec.split(2).expect("split");
         let msg = validate(&spec, "scene granular-small")
             .expect_err("split")
             .to_string();

@@ -1,11 +1,15 @@
 //! Scenes: the description schema ([`spec`]), the built-in registry ([`registry`]), TOML
-//! reading, the generator of granular materials ([`granular`]) and the builder that turns a
-//! description into a [`crate::Problem`] ([`build`]).
+//! reading, the generator of granular materials ([`granular`]), validation ([`validate`]), the
+//! admission of a solve's size ([`admission`]) and the builder that turns a description into a
+//! [`crate::Problem`] ([`build`]).
 
+pub mod admission;
 pub mod build;
+mod exact;
 pub mod granular;
 pub mod registry;
 pub mod spec;
+pub mod validate;
 
 use crate::error::{LopinError, Result};
 pub use spec::SceneSpec;

@@ -5,6 +5,8 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::error::{LopinError, Result};
+use crate::scene::exact::exactly;
 use crate::scene::granular::GranularSpec;
 use crate::time_function::{Ramp, TimeGrid};
 
@@ -101,16 +103,19 @@ pub struct BodySpec {
     /// Material name.
     pub material: String,
     /// Lower corner (m).
+    #[serde(deserialize_with = "exactly")]
     pub min: [f64; 3],
     /// Upper corner (m).
+    #[serde(deserialize_with = "exactly")]
     pub max: [f64; 3],
     /// Hexahedra along x, y, z for the whole body.
+    #[serde(deserialize_with = "exactly")]
     pub divisions: [usize; 3],
     /// Substructures along x, y, z (each must divide the divisions).
-    #[serde(default = "ones")]
+    #[serde(default = "ones", deserialize_with = "exactly")]
     pub split: [usize; 3],
     /// Initial velocity (m/s).
-    #[serde(default)]
+    #[serde(default, deserialize_with = "exactly")]
     pub velocity: [f64; 3],
 }
 
@@ -135,6 +140,7 @@ pub enum InterfaceKind {
 #[serde(deny_unknown_fields)]
 pub struct InterfaceSpec {
     /// The two bodies.
+    #[serde(deserialize_with = "exactly")]
     pub bodies: [String; 2],
     /// Kind of junction.
     pub kind: InterfaceKind,
@@ -207,32 +213,71 @@ impl ComponentSpec {
 
 impl SceneSpec {
     /// Multiplies the mesh divisions along `refine_axes` by k (of a granular scene: the
-    /// hexahedra per cell edge, along all axes).
-    pub fn refine(&mut self, k: usize) {
+    /// hexahedra per cell edge, along all axes). A product that does not fit a count is an error
+    /// naming `refine` and the body (nothing is changed then).
+    pub fn refine(&mut self, k: usize) -> Result<()> {
+        let axes = axes_of(&self.refine_axes);
+        let too_large = |what: String| {
+            LopinError::setting(
+                "refine",
+                format!("{k} times {what} does not fit a 64-bit count"),
+            )
+        };
+        if let Some(g) = &self.granular {
+            g.cell_elements
+                .checked_mul(k)
+                .ok_or_else(|| too_large(format!("{} hexahedra per cell edge", g.cell_elements)))?;
+        }
+        for b in &self.bodies {
+            for &a in &axes {
+                b.divisions[a].checked_mul(k).ok_or_else(|| {
+                    too_large(format!("{} hexahedra of body `{}`", b.divisions[a], b.name))
+                })?;
+            }
+        }
         if let Some(g) = &mut self.granular {
             g.cell_elements *= k;
         }
-        let axes = axes_of(&self.refine_axes);
         for b in &mut self.bodies {
             for &a in &axes {
                 b.divisions[a] *= k;
             }
         }
+        Ok(())
     }
 
     /// Multiplies the number of substructures along `split_axes` by n. A granular scene has one
     /// substructure per cell: there the request is recorded and validation rejects n ≠ 1 with a
-    /// message saying so.
-    pub fn split(&mut self, n: usize) {
+    /// message saying so. A product that does not fit a count is an error naming `split`.
+    pub fn split(&mut self, n: usize) -> Result<()> {
+        let axes = axes_of(&self.split_axes);
+        let too_large = |what: String| {
+            LopinError::setting(
+                "split",
+                format!("{n} times {what} does not fit a 64-bit count"),
+            )
+        };
+        if let Some(g) = &self.granular {
+            g.requested_split
+                .checked_mul(n)
+                .ok_or_else(|| too_large("the requested split".into()))?;
+        }
+        for b in &self.bodies {
+            for &a in &axes {
+                b.split[a].checked_mul(n).ok_or_else(|| {
+                    too_large(format!("{} substructures of body `{}`", b.split[a], b.name))
+                })?;
+            }
+        }
         if let Some(g) = &mut self.granular {
             g.requested_split *= n;
         }
-        let axes = axes_of(&self.split_axes);
         for b in &mut self.bodies {
             for &a in &axes {
                 b.split[a] *= n;
             }
         }
+        Ok(())
     }
 
     /// Sets the friction coefficient of every contact override (and of the grain/matrix

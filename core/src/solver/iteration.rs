@@ -20,7 +20,7 @@
 //!    solve unconverged.
 
 use super::linear::{LinearOutcome, LinearStage, Operators};
-use super::{Control, Iterate, Settings, Solution, Solver};
+use super::{non_finite, Control, Iterate, Settings, Solution, Solver};
 use crate::counters::{Instant, IterationRecord};
 use crate::error::Result;
 use crate::indicator::{IndicatorSums, WindowNorm};
@@ -72,6 +72,8 @@ pub struct SolveRun {
     cancelled: bool,
     /// Whether it has ended (converged, failed or stopped).
     done: bool,
+    /// Where a non-finite value appeared, if one did (the solve ended there).
+    failure: Option<String>,
 }
 
 impl SolveRun {
@@ -93,6 +95,12 @@ impl SolveRun {
     /// η of the last iteration (∞ before the first).
     pub fn eta(&self) -> f64 {
         self.eta
+    }
+
+    /// Where the first non-finite value appeared and the inputs behind it, if the solve ended on
+    /// one ([`Solver::solve`] returns it as [`crate::LopinError::NonFinite`]).
+    pub fn failure(&self) -> Option<&str> {
+        self.failure.as_deref()
     }
 
     /// Ends the solve now, as not converged and cancelled (a newer request replaces it; its
@@ -179,6 +187,7 @@ impl Solver {
             converged: true,
             cancelled: false,
             done: false,
+            failure: None,
         })
     }
 
@@ -207,6 +216,20 @@ impl Solver {
         };
         let outcome = run.linear_stage(&self.problem, &mut self.linear, ops, &set);
         run.indicator(outcome.sums);
+        if !run.eta.is_finite() {
+            // the first non-finite value stops the solve where it appeared
+            run.failure = Some(non_finite::describe(
+                &self.problem,
+                set.k,
+                run.iterations,
+                &run.s_new,
+                &run.hats,
+                (run.m0, run.m1),
+            ));
+            run.converged = false;
+            run.done = true;
+            return true;
+        }
         run.relaxation(set.mu);
         let linear_s = t_linear.elapsed().as_secs_f64();
         let record = IterationRecord {

@@ -4,8 +4,10 @@
 //! a recording with each value's fields and its quantities on the `parameter` timeline.
 //!
 //! The driver is three steps: [`plan`] (the options checked into a plan: parameter, values,
-//! predictor, mode, directory), [`values`] (solving each value warm or cold, resuming, saving
-//! each record) and [`outputs`] (run.json, table, JSON, figures).
+//! predictor, mode, directory, the header with the fingerprints of the resolved scene and
+//! settings), [`values`] (solving each value warm or cold, resuming from the values that pass
+//! [`super::sweep_store::Store::verify`], saving each record) and [`outputs`] (run.json, table,
+//! JSON, figures).
 
 mod outputs;
 mod plan;
@@ -59,8 +61,9 @@ pub struct SweepArgs {
 pub fn sweep(args: &SweepArgs) -> anyhow::Result<ExitCode> {
     let mut prepared = prepare(&args.scene)?;
     let plan = Plan::new(args, &mut prepared)?;
-    let (store, records) = Store::open(&plan.dir, &plan.header, args.resume)?;
-    let records = values::solve(args, &plan, &mut prepared, &store, records)?;
+    let store = Store::open(&plan.dir, &plan.header, &args.scene.scene, args.resume)?;
+    let resumed = store.verify(plan.values.len(), prepared.solver.problem());
+    let records = values::solve(args, &plan, &mut prepared, &store, resumed)?;
     outputs::finish(args, &plan, &store, &records)?;
     Ok(if records.iter().all(|r| r.converged) {
         ExitCode::SUCCESS

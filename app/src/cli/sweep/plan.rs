@@ -1,7 +1,8 @@
 //! The options of `lopin sweep` checked into a plan: the parameter and its values (`--param`,
 //! parsed by clap through [`parse_param`]), the predictor (a clap `ValueEnum` mapped onto the
 //! core's [`Predictor`]), the mode (warm, cold, compare-cold), the solver settings it runs with,
-//! the sweep header a resume must match and the directory.
+//! the sweep header a resume must match (with the fingerprints of the resolved scene and of the
+//! settings, so an edited scene file or other settings are seen) and the directory.
 
 use std::path::PathBuf;
 
@@ -11,6 +12,7 @@ use lopin_core::Parameter;
 use super::SweepArgs;
 use crate::cli::setup::Prepared;
 use crate::cli::sweep_store::Header;
+use crate::run_dir::fingerprint;
 
 /// `--param NAME=VALUES`: the parameter and its values.
 #[derive(Debug, Clone, PartialEq)]
@@ -100,6 +102,8 @@ impl Plan {
         };
         let header = Header {
             scene: prepared.spec.name.clone(),
+            scene_hash: fingerprint::of_scene(&prepared.spec),
+            settings_hash: fingerprint::of_settings(&settings),
             parameter: parameter.name().into(),
             values: values.clone(),
             mode: mode.name().into(),

@@ -1,7 +1,8 @@
 //! Solving the values of a sweep: each value set through [`lopin_core::Parameter`], started cold
 //! or from the predictor's state (METHOD §8), its cold solve with `--compare-cold`, its record
 //! and state saved at once (the resume point), run.json updated, the recording fed; a resumed
-//! sweep restarts after its last finished value from the stored states.
+//! sweep restarts after its last value that passed its checks, from the stored states: a
+//! damaged value is reported on stderr (file and reason) and recomputed with all after it.
 
 use anyhow::Context;
 use indicatif::{ProgressBar, ProgressStyle};
@@ -13,18 +14,36 @@ use super::plan::{Mode, Plan};
 use super::SweepArgs;
 use crate::cli::outputs::{describe, FLUSH_TIMEOUT};
 use crate::cli::setup::Prepared;
-use crate::cli::sweep_store::{state_name, ColdRecord, Store, ValueRecord};
+use crate::cli::sweep_store::{state_name, ColdRecord, Resumed, Store, ValueRecord};
 use crate::record::Recorder;
 
-/// Solves the values not in `records` yet and returns all the records.
+/// Solves the values not in `resumed` yet and returns all the records.
 pub fn solve(
     args: &SweepArgs,
     plan: &Plan,
     prepared: &mut Prepared,
     store: &Store,
-    mut records: Vec<ValueRecord>,
+    resumed: Resumed,
 ) -> anyhow::Result<Vec<ValueRecord>> {
     let (parameter, values, header) = (plan.parameter, &plan.values, &plan.header);
+    let Resumed {
+        mut records,
+        last_states: mut history,
+        damage,
+    } = resumed;
+    if let Some(d) = &damage {
+        let last = values.len().saturating_sub(1);
+        eprintln!(
+            "{}: {}: recomputing {}",
+            d.path.display(),
+            d.reason,
+            if d.from == last {
+                format!("value {last}")
+            } else {
+                format!("values {} … {last}", d.from)
+            }
+        );
+    }
     let mut run_json = RunJson::new(args, plan, prepared);
     let solver = &mut prepared.solver;
     run_json.write(&records, solver)?;
@@ -50,12 +69,8 @@ pub fn solve(
             log_value(rec, r)?;
         }
     }
-    // the converged states the predictor extrapolates from (the last two)
-    let mut history: Vec<(f64, InterfaceState)> = Vec::new();
-    for r in records.iter().rev().take(2).rev() {
-        history.push((r.value, store.load_state(r)?));
-    }
-    if !records.is_empty() {
+    // `history`: the converged states the predictor extrapolates from (the last two)
+    if !records.is_empty() || damage.is_some() {
         eprintln!(
             "resuming {}: {} of {} values finished",
             plan.dir.display(),
@@ -73,7 +88,7 @@ pub fn solve(
         let value = values[index];
         solver
             .set_parameter(parameter, value)
-            .with_context(|| format!("{} = {value}", parameter.name()))?;
+            .with_context(|| format!("{} = {value:?}", parameter.name()))?;
         let start_state = if plan.mode == Mode::Cold {
             None
         } else {
@@ -93,6 +108,14 @@ pub fn solve(
                 record_error = rec.iteration(r).err();
             }
             Control::Continue
+        });
+        let finished = records.len();
+        let sol = sol.with_context(|| {
+            format!(
+                "{} = {value:?}: solving (the {finished} values before it are kept in {})",
+                parameter.name(),
+                plan.dir.display()
+            )
         })?;
         if let Some(e) = record_error {
             return Err(e.context("recording the iterations"));
@@ -102,7 +125,9 @@ pub fn solve(
         let s = post::summary(solver, &sol);
         let cold = if plan.mode == Mode::CompareCold {
             let t = Instant::now();
-            let c = solver.solve(None)?;
+            let c = solver
+                .solve(None)
+                .with_context(|| format!("{} = {value:?}: the cold solve", parameter.name()))?;
             Some(ColdRecord {
                 iterations: c.iterations,
                 eta: c.eta,

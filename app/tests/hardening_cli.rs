@@ -1,0 +1,188 @@
+//! The hardening cases as a user meets them on the command line, one test per case, each named
+//! after it: every one ends with exit status 2 and one `error:` line naming the option, file or
+//! field and the reason — never a panic, an abort, a silent wrap or a NaN result.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+use std::time::{Duration, Instant};
+
+fn lopin(args: &[&str], env: &[(&str, &str)]) -> (Output, Duration) {
+    let start = Instant::now();
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_lopin"));
+    cmd.args(args);
+    for (k, v) in env {
+        cmd.env(k, v);
+    }
+    let out = cmd.output().expect("lopin runs");
+    (out, start.elapsed())
+}
+
+/// Runs lopin, expects exit status 2, and returns its stderr.
+fn refused(args: &[&str], env: &[(&str, &str)]) -> String {
+    let (out, _) = lopin(args, env);
+    let stderr = String::from_utf8_lossy(&out.stderr).to_string();
+    assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
+    assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+    assert!(stderr.starts_with("error: "), "{args:?}: {stderr}");
+    stderr
+}
+
+fn temp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("lopin-hardening-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    dir.join(name)
+}
+
+/// A scene file: `lopin export-scene NAME` with `edit` applied.
+fn scene_file(name: &str, file: &str, edit: impl Fn(String) -> String) -> String {
+    let (out, _) = lopin(&["export-scene", name], &[]);
+    assert!(out.status.success());
+    let original = String::from_utf8(out.stdout).expect("utf8");
+    let text = edit(original.clone());
+    assert_ne!(text, original, "{file}: the edit did not apply");
+    let path = temp(file);
+    std::fs::write(&path, text).expect("write");
+    path.to_str().expect("utf8").to_string()
+}
+
+#[test]
+fn estimate_of_a_10_12_element_scene_answers_at_once_with_a_refusal() {
+    let file = scene_file("two-blocks", "huge.toml", |t| {
+        t.replace(
+            "divisions = [\n    10,\n    10,\n    5,\n]",
+            "divisions = [10000, 10000, 5000]",
+        )
+    });
+    let (out, took) = lopin(&["estimate", &file], &[]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    for part in [
+        "huge.toml",
+        "1000000000000 hexahedra",
+        "more than this machine can give it",
+        "What would fit",
+    ] {
+        assert!(stderr.contains(part), "no `{part}` in {stderr}");
+    }
+    // a bound against hangs (the answer takes milliseconds; the README gives the figure)
+    assert!(took < Duration::from_secs(20), "{took:?}");
+}
+
+#[test]
+fn estimate_of_refine_100_is_refused_with_the_refinement_that_fits() {
+    let stderr = refused(&["estimate", "two-blocks", "--refine", "100"], &[]);
+    assert!(
+        stderr.contains("scene two-blocks")
+            && stderr.contains("--refine ")
+            && stderr.contains(" fits"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn run_with_refine_u64_max_is_an_error_not_a_capacity_overflow_panic() {
+    let stderr = refused(
+        &["run", "two-blocks", "--refine", "18446744073709551615"],
+        &[],
+    );
+    assert!(
+        stderr.contains("--refine 18446744073709551615") && stderr.contains("does not fit"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn run_with_refine_that_used_to_wrap_to_1_is_an_error() {
+    let stderr = refused(
+        &["run", "two-blocks", "--refine", "4611686018427387905"],
+        &[],
+    );
+    assert!(stderr.contains("--refine 4611686018427387905"), "{stderr}");
+}
+
+#[test]
+fn run_that_cannot_fit_is_refused_before_allocating_with_what_would_fit() {
+    let stderr = refused(
+        &["run", "granular-small"],
+        &[("LOPIN_MEMORY_LIMIT", "16MiB")],
+    );
+    for part in [
+        "scene granular-small",
+        "LOPIN_MEMORY_LIMIT",
+        "What would fit",
+        "`time.steps` at most",
+    ] {
+        assert!(stderr.contains(part), "no `{part}` in {stderr}");
+    }
+    let stderr = refused(&["run", "two-blocks"], &[("LOPIN_MEMORY_LIMIT", "lots")]);
+    assert!(
+        stderr.contains("LOPIN_MEMORY_LIMIT") && stderr.contains("`lots`"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn run_with_k_1e300_names_k_not_a_pivot() {
+    let stderr = refused(&["run", "two-blocks", "--k", "1e300"], &[]);
+    assert!(
+        stderr.contains("`k`") && stderr.contains("impedance") && !stderr.contains("pivot"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn sweep_of_v0_1e300_is_an_error_not_a_plotting_panic() {
+    let out = temp("sweep-v0");
+    let stderr = refused(
+        &[
+            "sweep",
+            "bar",
+            "--param",
+            "v0=1e300",
+            "--out",
+            out.to_str().expect("utf8"),
+        ],
+        &[],
+    );
+    assert!(
+        stderr.contains("v0") && stderr.contains("slowest wave speed"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn out_on_an_existing_file_names_the_path_before_solving() {
+    let file = temp("not-a-folder");
+    std::fs::write(&file, "x").expect("write");
+    let path = file.to_str().expect("utf8");
+    let stderr = refused(&["run", "bar", "--out", path], &[]);
+    assert!(
+        stderr.contains("--out") && stderr.contains(path) && stderr.contains("not a folder"),
+        "{stderr}"
+    );
+    assert_eq!(std::fs::read_to_string(&file).expect("kept"), "x");
+}
+
+#[test]
+fn max_iter_0_in_the_solver_table_names_the_file_and_field() {
+    let file = scene_file("two-blocks", "max-iter.toml", |t| {
+        t.replace("[solver]\n", "[solver]\nmax_iter = 0\n")
+    });
+    let stderr = refused(&["run", &file], &[]);
+    assert!(
+        stderr.contains("max-iter.toml") && stderr.contains("solver.max_iter"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn dt_5e_324_names_time_dt_and_the_scale_it_is_judged_against() {
+    let file = scene_file("two-blocks", "dt.toml", |t| {
+        t.replace("dt = 0.00000025", "dt = 5e-324")
+    });
+    let stderr = refused(&["run", &file], &[]);
+    assert!(
+        stderr.contains("dt.toml") && stderr.contains("time.dt") && stderr.contains("P wave"),
+        "{stderr}"
+    );
+}

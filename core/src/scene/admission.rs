@@ -1,0 +1,534 @@
+//! Admission of a scene before anything large is allocated: the sizes of the problem a scene
+//! describes (substructures, elements, nodes, dofs, interface trace entries, steps), computed
+//! with checked arithmetic from the scene alone — no mesh is built and a `[granular]` table is
+//! not expanded — and the memory a solve will hold (METHOD §11: s = (F, W) per substructure trace
+//! and its unrelaxed copy, ŝ = (F̂, Ŵ) per interface side, all over steps 0..N; the skip cache of
+//! whole-interval runs; the assembled operators; an estimate of the factorizations of S and of
+//! the homogenized operators of METHOD §9), judged against the memory this machine has. A
+//! request that cannot fit is refused with the numbers and with what would make it fit. `run`,
+//! `sweep`, `estimate` and the explorer all pass through [`admit`] (scene validation calls it
+//! with the smallest shape a solve can take).
+
+use std::collections::HashMap;
+
+use crate::error::{LopinError, Result};
+use crate::scene::build::face_of;
+use crate::scene::spec::{InterfaceKind, SceneSpec};
+
+/// Bytes per double.
+const F64: u128 = 8;
+/// Bytes per stored factor entry (value and row index).
+const FACTOR_ENTRY: u128 = 16;
+/// Share of the available memory a solve may plan to use.
+const USABLE: f64 = 0.9;
+/// Environment variable that caps the memory Lopin plans with (bytes, or with a KiB, MiB, GiB
+/// or TiB suffix), e.g. to leave room for other jobs.
+pub const MEMORY_LIMIT_VAR: &str = "LOPIN_MEMORY_LIMIT";
+
+/// How a solve will run, as far as memory is concerned.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SolveShape {
+    /// Time-window length in steps (None: the whole interval).
+    pub window: Option<usize>,
+    /// Two-scale linear stage (homogenized operators, no skip cache).
+    pub two_scale: bool,
+    /// Whether whole-interval runs keep the skip cache.
+    pub skip_unchanged: bool,
+}
+
+impl SolveShape {
+    /// The shape a scene asks for in its `[solver]` table (skip cache on).
+    pub fn of_scene(spec: &SceneSpec) -> Self {
+        Self {
+            window: spec.solver.window,
+            two_scale: spec.solver.two_scale.unwrap_or(false),
+            skip_unchanged: true,
+        }
+    }
+
+    /// The smallest a solve of any shape holds (one-step windows: no skip cache).
+    pub fn smallest() -> Self {
+        Self {
+            window: Some(1),
+            two_scale: false,
+            skip_unchanged: false,
+        }
+    }
+}
+
+/// What a solve of a scene will hold, from the scene alone.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Footprint {
+    /// Substructures.
+    pub substructures: usize,
+    /// Hexahedra.
+    pub elements: usize,
+    /// Mesh nodes (shared interface nodes counted once per substructure).
+    pub nodes: usize,
+    /// Degrees of freedom.
+    pub dofs: usize,
+    /// Interface trace entries over all substructures (Σ interface-side dofs).
+    pub trace_entries: usize,
+    /// Time steps N.
+    pub steps: usize,
+    /// Estimated distinct factorizations of S.
+    pub factorizations: usize,
+    /// Bytes of s, its unrelaxed copy and ŝ over steps 0..N (METHOD §11).
+    pub interface_bytes: u64,
+    /// Bytes of the skip cache (whole-interval single-scale runs).
+    pub cache_bytes: u64,
+    /// Bytes of the assembled stiffness matrices, masses and per-substructure work vectors.
+    pub operator_bytes: u64,
+    /// Estimated bytes of the factorizations of S.
+    pub factor_bytes: u64,
+    /// Estimated bytes of the homogenized operators (two-scale only).
+    pub macro_bytes: u64,
+}
+
+impl Footprint {
+    /// Total bytes.
+    pub fn total_bytes(&self) -> u64 {
+        self.interface_bytes
+            .saturating_add(self.cache_bytes)
+            .saturating_add(self.operator_bytes)
+            .saturating_add(self.factor_bytes)
+            .saturating_add(self.macro_bytes)
+    }
+
+    /// Human-readable lines.
+    pub fn lines(&self) -> Vec<String> {
+        vec![
+            format!(
+                "{} dofs, {} substructures, {} hexahedra, {} trace entries, {} steps",
+                self.dofs, self.substructures, self.elements, self.trace_entries, self.steps
+            ),
+            format!(
+                "memory: interface fields {} + skip cache {} + operators {} + factors about {}{} \
+                 = about {}",
+                bytes(self.interface_bytes),
+                bytes(self.cache_bytes),
+                bytes(self.operator_bytes),
+                bytes(self.factor_bytes),
+                if self.macro_bytes > 0 {
+                    format!(" + homogenized operators about {}", bytes(self.macro_bytes))
+                } else {
+                    String::new()
+                },
+                bytes(self.total_bytes())
+            ),
+        ]
+    }
+}
+
+/// The memory a solve may plan with, and where that figure comes from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MemoryBudget {
+    /// Bytes.
+    pub bytes: u64,
+    /// Where the figure comes from.
+    pub source: &'static str,
+}
+
+/// The memory this machine has for a solve: `LOPIN_MEMORY_LIMIT` if set, else the available
+/// memory the kernel reports (`MemAvailable` of /proc/meminfo), on wasm32 the 4 GiB a 32-bit
+/// address space holds; None where nothing is known. A malformed `LOPIN_MEMORY_LIMIT` is an
+/// error naming it.
+pub fn machine_memory() -> Result<Option<MemoryBudget>> {
+    #[cfg(target_arch = "wasm32")]
+    {
+        Ok(Some(MemoryBudget {
+            bytes: 4 << 30,
+            source: "the 32-bit address space of WebAssembly",
+        }))
+    }
+    #[cfg(not(target_arch = "wasm32"))]
+    {
+        if let Ok(text) = std::env::var(MEMORY_LIMIT_VAR) {
+            let bytes = parse_bytes(&text).ok_or_else(|| {
+                LopinError::setting(
+                    MEMORY_LIMIT_VAR,
+                    format!(
+                        "expected a number of bytes, optionally with a KiB, MiB, GiB or TiB \
+                         suffix (e.g. 8GiB), got `{text}`"
+                    ),
+                )
+            })?;
+            return Ok(Some(MemoryBudget {
+                bytes,
+                source: MEMORY_LIMIT_VAR,
+            }));
+        }
+        let Ok(info) = std::fs::read_to_string("/proc/meminfo") else {
+            return Ok(None);
+        };
+        Ok(info
+            .lines()
+            .find_map(|l| l.strip_prefix("MemAvailable:"))
+            .and_then(|rest| rest.trim().strip_suffix("kB"))
+            .and_then(|kb| kb.trim().parse::<u64>().ok())
+            .map(|kb| MemoryBudget {
+                bytes: kb.saturating_mul(1024),
+                source: "available memory (MemAvailable of /proc/meminfo)",
+            }))
+    }
+}
+
+/// Parses "123", "1.5e9", "512MiB", "8 GiB", "2TiB".
+pub fn parse_bytes(text: &str) -> Option<u64> {
+    let t = text.trim();
+    let (number, unit) = match t.find(|c: char| c.is_ascii_alphabetic()) {
+        Some(i) if !t[..i].ends_with(['e', 'E']) => t.split_at(i),
+        _ => (t, ""),
+    };
+    let scale: f64 = match unit.trim() {
+        "" | "B" => 1.0,
+        "KiB" | "K" | "k" => 1024.0,
+        "MiB" | "M" => 1024.0 * 1024.0,
+        "GiB" | "G" => 1024.0 * 1024.0 * 1024.0,
+        "TiB" | "T" => 1024.0 * 1024.0 * 1024.0 * 1024.0,
+        _ => return None,
+    };
+    let value: f64 = number.trim().parse().ok()?;
+    let b = value * scale;
+    (b.is_finite() && b >= 1.0 && b < u64::MAX as f64).then_some(b as u64)
+}
+
+/// Checks that a solve of `spec` in `shape` fits this machine, before anything large is
+/// allocated: the sizes are counted with checked arithmetic (a count that does not fit is an
+/// error naming the fields), the memory compared with [`machine_memory`]. Returns the footprint.
+pub fn admit(spec: &SceneSpec, source: &str, shape: SolveShape) -> Result<Footprint> {
+    let fp = footprint(spec, source, shape)?;
+    let Some(budget) = machine_memory()? else {
+        return Ok(fp);
+    };
+    let limit = (budget.bytes as f64 * USABLE) as u64;
+    if fp.total_bytes() <= limit {
+        return Ok(fp);
+    }
+    Err(LopinError::TooLarge {
+        source_name: source.to_string(),
+        needed: bytes(fp.total_bytes()),
+        available: format!("{} ({})", bytes(budget.bytes), budget.source),
+        detail: fp.lines().join("; "),
+        remedy: remedies(&fp, limit),
+    })
+}
+
+/// What would make a footprint fit under `limit` bytes.
+fn remedies(fp: &Footprint, limit: u64) -> String {
+    let mut out = Vec::new();
+    let fixed = fp.operator_bytes as u128 + fp.factor_bytes as u128 + fp.macro_bytes as u128;
+    let n1 = fp.steps as u128 + 1;
+    let per_step = (fp.interface_bytes as u128 + fp.cache_bytes as u128) / n1;
+    let smallest_per_step = fp.interface_bytes as u128 / n1;
+    if fp.cache_bytes > 0 && fp.total_bytes() - fp.cache_bytes <= limit {
+        out.push(format!(
+            "time windows (`--window W` or `solver.window`) drop the skip cache of {}",
+            bytes(fp.cache_bytes)
+        ));
+    }
+    if (limit as u128) > fixed && per_step > 0 {
+        let steps = ((limit as u128 - fixed) / per_step).saturating_sub(1);
+        let steps_windowed = ((limit as u128 - fixed) / smallest_per_step.max(1)).saturating_sub(1);
+        if steps >= 1 {
+            out.push(format!(
+                "fewer steps: `time.steps` at most {} (now {})",
+                steps, fp.steps
+            ));
+        } else if fp.cache_bytes > 0 && steps_windowed >= 1 {
+            out.push(format!(
+                "fewer steps with time windows: `time.steps` at most {steps_windowed} (now {})",
+                fp.steps
+            ));
+        }
+    }
+    // interface fields scale with the faces (c⁻²), operators and factors with the volume (c⁻³)
+    let surface = fp.interface_bytes as f64 + fp.cache_bytes as f64;
+    let volume = fixed as f64;
+    let coarser = (2..=1 << 20).find(|&c| {
+        let c = c as f64;
+        surface / (c * c) + volume / (c * c * c) <= limit as f64
+    });
+    match coarser {
+        Some(c) => out.push(format!(
+            "a coarser mesh: about {c}× fewer hexahedra along each axis (smaller `divisions`, \
+             `cell_elements` or `--refine`)"
+        )),
+        None => out.push("a much smaller model".into()),
+    }
+    out.join("; or ")
+}
+
+/// One group of identical substructures: `count` pieces of `div` hexahedra.
+struct PieceGroup {
+    count: u128,
+    div: [u128; 3],
+    /// Distinct factorizations the group is expected to need.
+    classes: u128,
+}
+
+/// The sizes and memory of a solve of `spec` in `shape`, from the scene alone (checked
+/// arithmetic; a count that overflows is an error naming the fields).
+pub fn footprint(spec: &SceneSpec, source: &str, shape: SolveShape) -> Result<Footprint> {
+    let overflow = |field: &str| {
+        LopinError::scene(
+            source,
+            field,
+            "the model this asks for is too large to count (its size overflows 64-bit \
+             arithmetic)",
+        )
+    };
+    let (groups, trace) = match &spec.granular {
+        Some(g) => granular_pieces(g).ok_or_else(|| overflow("granular"))?,
+        None => body_pieces(spec).ok_or_else(|| overflow("body"))?,
+    };
+    let fit = |x: u128, field: &str| usize::try_from(x).map_err(|_| overflow(field));
+    let mut substructures = 0u128;
+    let mut elements = 0u128;
+    let mut nodes = 0u128;
+    let mut operator = 0u128;
+    let mut factor = 0u128;
+    let mut macro_ = 0u128;
+    let mut classes = 0u128;
+    for g in &groups {
+        let e: u128 = g.div.iter().product();
+        let node_dims = g.div.map(|d| d + 1);
+        let n: u128 = node_dims.iter().product();
+        let ndof = 3 * n;
+        substructures += g.count;
+        elements = elements
+            .checked_add(g.count.checked_mul(e).ok_or_else(|| overflow("body"))?)
+            .ok_or_else(|| overflow("body"))?;
+        nodes = nodes
+            .checked_add(g.count.checked_mul(n).ok_or_else(|| overflow("body"))?)
+            .ok_or_else(|| overflow("body"))?;
+        // stiffness in full CSC: 9 entries per pair of neighbouring nodes, once per group; mass,
+        // linear-stage work and window-start vectors (13 per dof) per substructure
+        let nnz: u128 = 9 * g.div.iter().map(|d| 3 * d + 1).product::<u128>();
+        operator += nnz * 2 * F64 + g.count * 13 * ndof * F64;
+        // the factor of S per expected distinct factorization: a band of the two smallest node
+        // layers, or the n^(4/3) growth of nested dissection on large 3D meshes (35 n^(4/3):
+        // 19.8 M entries measured for 20,577 dofs), whichever is smaller
+        let mut dims = node_dims;
+        dims.sort_unstable();
+        let band = ndof.saturating_mul((3 * dims[0] * dims[1]).min(ndof));
+        let dissection = (35.0 * (ndof as f64).powf(4.0 / 3.0)).min(u128::MAX as f64 / 2.0) as u128;
+        factor = factor.saturating_add(
+            g.classes
+                .saturating_mul(band.min(dissection))
+                .saturating_mul(FACTOR_ENTRY),
+        );
+        classes += g.classes;
+        if shape.two_scale {
+            // Z_E: 9 macro fields per face of the substructure, a column per field
+            macro_ += g.classes * ndof * 54 * F64;
+        }
+    }
+    let steps = spec.time.steps as u128;
+    let n1 = steps.checked_add(1).ok_or_else(|| overflow("time.steps"))?;
+    // s, s_new (per substructure trace) and ŝ (per interface side): F and W each
+    let interface = n1
+        .checked_mul(trace)
+        .and_then(|x| x.checked_mul(2 * F64 * 3))
+        .ok_or_else(|| overflow("time.steps"))?;
+    let whole = shape.window.is_none_or(|w| w >= spec.time.steps);
+    let cache = if whole && shape.skip_unchanged && !shape.two_scale {
+        n1.checked_mul(trace)
+            .and_then(|x| x.checked_mul(4 * F64))
+            .ok_or_else(|| overflow("time.steps"))?
+    } else {
+        0
+    };
+    // byte counts beyond 16 EiB are shown as 16 EiB: the verdict is the same
+    let to_u64 =
+        |x: u128, _field: &str| -> Result<u64> { Ok(u64::try_from(x).unwrap_or(u64::MAX)) };
+    Ok(Footprint {
+        substructures: fit(substructures, "body")?,
+        elements: fit(elements, "body")?,
+        nodes: fit(nodes, "body")?,
+        dofs: fit(
+            nodes.checked_mul(3).ok_or_else(|| overflow("body"))?,
+            "body",
+        )?,
+        trace_entries: fit(trace, "body")?,
+        steps: spec.time.steps,
+        factorizations: fit(classes, "body")?,
+        interface_bytes: to_u64(interface, "time.steps")?,
+        cache_bytes: to_u64(cache, "time.steps")?,
+        operator_bytes: to_u64(operator, "body")?,
+        factor_bytes: to_u64(factor, "body")?,
+        macro_bytes: to_u64(macro_, "body")?,
+    })
+}
+
+/// The substructures of a `[granular]` table without expanding it: every cell one substructure
+/// of m³ hexahedra; trace entries of every internal face (both sides) and of the top (one
+/// velocity component) and bottom (clamped) faces. None on overflow.
+fn granular_pieces(g: &crate::scene::granular::GranularSpec) -> Option<(Vec<PieceGroup>, u128)> {
+    let n = g.grid.map(|x| x as u128);
+    let m = g.cell_elements as u128;
+    let cells = n[0].checked_mul(n[1])?.checked_mul(n[2])?;
+    let face_nodes = (m + 1).checked_mul(m + 1)?;
+    let mut trace = 0u128;
+    for a in 0..3 {
+        let planes = n[a].saturating_sub(1);
+        let per_plane = n[(a + 1) % 3].checked_mul(n[(a + 2) % 3])?;
+        // two sides, three components
+        trace = trace.checked_add(
+            planes
+                .checked_mul(per_plane)?
+                .checked_mul(6)?
+                .checked_mul(face_nodes)?,
+        )?;
+    }
+    let top_bottom = n[0]
+        .checked_mul(n[1])?
+        .checked_mul(face_nodes)?
+        .checked_mul(4)?;
+    trace = trace.checked_add(top_bottom)?;
+    let grain_cells = (g.grains as u128)
+        .checked_mul(g.grain_cells[1] as u128)?
+        .min(cells);
+    let div = [m; 3];
+    let groups = vec![
+        PieceGroup {
+            count: cells - grain_cells,
+            div,
+            classes: (cells - grain_cells).min(27),
+        },
+        PieceGroup {
+            count: grain_cells,
+            div,
+            classes: grain_cells.min(27),
+        },
+    ];
+    Some((groups, trace))
+}
+
+/// The substructures of listed bodies: each body cut into split[0]·split[1]·split[2] equal
+/// boxes; trace entries of the cuts (both sides), of the boundary conditions (one per prescribed
+/// component) and of the faces another body touches (or faces across a contact search distance).
+/// None on overflow.
+fn body_pieces(spec: &SceneSpec) -> Option<(Vec<PieceGroup>, u128)> {
+    let mut groups = Vec::with_capacity(spec.bodies.len());
+    let mut trace = 0u128;
+    let index: HashMap<&str, usize> = spec
+        .bodies
+        .iter()
+        .enumerate()
+        .map(|(i, b)| (b.name.as_str(), i))
+        .collect();
+    let mut rules: HashMap<(usize, usize), (InterfaceKind, f64)> = HashMap::new();
+    for it in &spec.interfaces {
+        if let (Some(&a), Some(&b)) = (
+            index.get(it.bodies[0].as_str()),
+            index.get(it.bodies[1].as_str()),
+        ) {
+            rules.insert((a.min(b), a.max(b)), (it.kind, it.search.unwrap_or(0.0)));
+        }
+    }
+    for (i, b) in spec.bodies.iter().enumerate() {
+        let split = b.split.map(|x| x.max(1) as u128);
+        let div: [u128; 3] = std::array::from_fn(|a| b.divisions[a] as u128 / split[a]);
+        let count = split[0].checked_mul(split[1])?.checked_mul(split[2])?;
+        let face_nodes = |a: usize| (div[(a + 1) % 3] + 1).checked_mul(div[(a + 2) % 3] + 1);
+        for a in 0..3 {
+            let cross = split[(a + 1) % 3].checked_mul(split[(a + 2) % 3])?;
+            let fnodes = face_nodes(a)?;
+            // cuts inside the body: two sides of three components
+            trace = trace.checked_add(
+                split[a]
+                    .saturating_sub(1)
+                    .checked_mul(cross)?
+                    .checked_mul(6)?
+                    .checked_mul(fnodes)?,
+            )?;
+            // the body's own faces on this axis
+            let body_face_nodes = cross.checked_mul(fnodes)?;
+            for sign in [-1.0, 1.0] {
+                let name = match (a, sign > 0.0) {
+                    (0, false) => "x-",
+                    (0, true) => "x+",
+                    (1, false) => "y-",
+                    (1, true) => "y+",
+                    (2, false) => "z-",
+                    _ => "z+",
+                };
+                let components: u128 = spec
+                    .boundaries
+                    .iter()
+                    .filter(|bc| bc.body == b.name && face_of(&bc.face) == face_of(name))
+                    .map(|bc| {
+                        if bc.clamped {
+                            3
+                        } else {
+                            [&bc.x, &bc.y, &bc.z].iter().filter(|c| c.is_some()).count() as u128
+                        }
+                    })
+                    .sum();
+                let touched = touched_fraction(spec, &rules, i, a, sign);
+                let sides = components as f64 + 3.0 * touched;
+                trace = trace.checked_add((body_face_nodes as f64 * sides).ceil() as u128)?;
+            }
+        }
+        groups.push(PieceGroup {
+            count,
+            div,
+            classes: count.min(27),
+        });
+    }
+    Some((groups, trace))
+}
+
+/// The fraction of body `i`'s face (axis `a`, outward `sign`) that other bodies touch (or face
+/// across a contact search distance), at most 1.
+fn touched_fraction(
+    spec: &SceneSpec,
+    rules: &HashMap<(usize, usize), (InterfaceKind, f64)>,
+    i: usize,
+    a: usize,
+    sign: f64,
+) -> f64 {
+    let b = &spec.bodies[i];
+    let plane = if sign > 0.0 { b.max[a] } else { b.min[a] };
+    let (u, v) = ((a + 1) % 3, (a + 2) % 3);
+    let area = (b.max[u] - b.min[u]) * (b.max[v] - b.min[v]);
+    let size = (0..3).map(|c| b.max[c] - b.min[c]).fold(0.0, f64::max);
+    let tol = 1e-6 * size;
+    let mut touched = 0.0;
+    for (j, o) in spec.bodies.iter().enumerate() {
+        if j == i {
+            continue;
+        }
+        let (kind, search) = rules
+            .get(&(i.min(j), i.max(j)))
+            .copied()
+            .unwrap_or((InterfaceKind::Perfect, 0.0));
+        if kind == InterfaceKind::Free {
+            continue;
+        }
+        let other = if sign > 0.0 { o.min[a] } else { o.max[a] };
+        let distance = sign * (other - plane);
+        if distance < -tol || distance > search.max(0.0) + tol {
+            continue;
+        }
+        let overlap = |c: usize| (b.max[c].min(o.max[c]) - b.min[c].max(o.min[c])).max(0.0);
+        touched += overlap(u) * overlap(v) / area;
+    }
+    touched.min(1.0)
+}
+
+/// Bytes in KiB/MiB/GiB/TiB.
+pub fn bytes(b: u64) -> String {
+    let b = b as f64;
+    let unit = |p: i32| 1024f64.powi(p);
+    if b >= unit(4) {
+        format!("{:.2} TiB", b / unit(4))
+    } else if b >= unit(3) {
+        format!("{:.2} GiB", b / unit(3))
+    } else if b >= unit(2) {
+        format!("{:.1} MiB", b / unit(2))
+    } else {
+        format!("{:.1} KiB", b / unit(1))
+    }
+}

@@ -1,0 +1,543 @@
+//! Validation of a scene before anything is built: every field checked, errors naming the
+//! source (file or built-in scene), the field and the reason. Besides each field's own range
+//! (positive, finite, Poisson's ratio in (−1, 0.5), counts of at least 1, arrays of exactly
+//! their length through [`super::exact`]), the dimensional inputs lie in ranges wide enough for
+//! SI models from gels to diamond and for dimensionless ones, and fields are judged against each
+//! other: Δt against the wave transit time of the smallest element, velocities against the
+//! slowest wave speed (small strains), tractions against E, gaps against the model size, k
+//! against the impedance √(ρE) (METHOD §10); bodies may touch but not overlap; and the smallest
+//! solve the scene allows must fit this machine ([`admission`]), so that nothing too large is
+//! expanded or meshed.
+
+use std::collections::HashMap;
+
+use crate::error::{LopinError, Result};
+use crate::interface::{BoundaryDof, DofLaw};
+use crate::material::Material;
+use crate::scene::admission::{self, SolveShape};
+use crate::scene::build::face_of;
+use crate::scene::granular;
+use crate::scene::spec::{BoundarySpec, ComponentSpec, InterfaceKind, SceneSpec};
+use crate::time_function::TimeFunction;
+
+/// Checks every field of a scene; `source` names the file or built-in scene in errors. A
+/// granular scene is checked as its `[granular]` table, then as the scene it expands to.
+pub fn validate(spec: &SceneSpec, source: &str) -> Result<()> {
+    if spec.granular.is_some() {
+        // counted and admitted before the table is expanded into one body per cell
+        granular::validate(spec, source)?;
+        admission::admit(spec, source, SolveShape::smallest())?;
+        return validate_expanded(&granular::expand(spec, source)?, source, Generated::Yes);
+    }
+    validate_expanded(spec, source, Generated::No)
+}
+
+/// Whether the bodies of a scene were generated (by a `[granular]` table, admitted before its
+/// expansion and laid out without overlaps) or listed by the user.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Generated {
+    Yes,
+    No,
+}
+
+/// Ranges of the dimensional inputs: wide enough for SI models from gels to diamond and for
+/// dimensionless models (E = ρ = 1), narrow enough that no product the solver forms overflows.
+const YOUNG_RANGE: (f64, f64) = (1e-3, 1e13);
+const DENSITY_RANGE: (f64, f64) = (1e-3, 1e5);
+const LENGTH_RANGE: (f64, f64) = (1e-9, 1e5);
+/// The time step relative to the wave transit time of the smallest element, h_min / c_max (the
+/// trapezoidal rule is stable for any Δt; outside this range the time grid is absurd for the
+/// mesh: every wave crosses 10⁴ elements per step, or needs 10⁴ steps to cross one).
+const COURANT_RANGE: (f64, f64) = (1e-4, 1e4);
+
+/// The search direction k relative to the impedance scale k0 = mean √(ρE) of the materials in
+/// use (METHOD §10) that a solve accepts (the stress suite converges from 10⁻³ to 10³ k0, slowly
+/// at the ends).
+pub const K_RANGE: (f64, f64) = (1e-6, 1e6);
+
+/// Checks a scene whose bodies are listed.
+fn validate_expanded(spec: &SceneSpec, source: &str, generated: Generated) -> Result<()> {
+    let err = |field: String, reason: String| Err(LopinError::scene(source, field, reason));
+    let positive = |x: f64| x.is_finite() && x > 0.0;
+    if !positive(spec.time.dt) {
+        return err(
+            "time.dt".into(),
+            format!(
+                "must be a positive number of seconds, got {:?}",
+                spec.time.dt
+            ),
+        );
+    }
+    if spec.time.steps == 0 {
+        return err("time.steps".into(), "must be at least 1".into());
+    }
+    for (name, axes) in [
+        ("refine_axes", &spec.refine_axes),
+        ("split_axes", &spec.split_axes),
+    ] {
+        if axes.chars().any(|c| !"xyz".contains(c)) {
+            return err(
+                name.into(),
+                format!("only the letters x, y, z are allowed, got `{axes}`"),
+            );
+        }
+    }
+    let s = &spec.solver;
+    if let Some(tol) = s.tol {
+        if !positive(tol) {
+            return err("solver.tol".into(), format!("must be positive, got {tol}"));
+        }
+    }
+    if let Some(mu) = s.mu {
+        if !(mu > 0.0 && mu <= 1.0) {
+            return err("solver.mu".into(), format!("must lie in (0, 1], got {mu}"));
+        }
+    }
+    if let Some(k) = s.k {
+        if !positive(k) {
+            return err("solver.k".into(), format!("must be positive, got {k}"));
+        }
+    }
+    if s.window == Some(0) {
+        return err("solver.window".into(), "must be at least 1 step".into());
+    }
+    if s.max_iter == Some(0) {
+        return err(
+            "solver.max_iter".into(),
+            "must be at least 1 iteration".into(),
+        );
+    }
+    if let Some(tol) = s.tol {
+        if tol >= 1.0 {
+            return err(
+                "solver.tol".into(),
+                format!("must be below 1 (η is a relative error), got {tol}"),
+            );
+        }
+    }
+    if spec.materials.is_empty() {
+        return err(
+            "material".into(),
+            "at least one [[material]] is needed".into(),
+        );
+    }
+    for (i, m) in spec.materials.iter().enumerate() {
+        if spec.materials[..i].iter().any(|o| o.name == m.name) {
+            return err(
+                format!("material[{i}].name"),
+                format!("duplicate material name `{}`", m.name),
+            );
+        }
+        if !in_range(m.young, YOUNG_RANGE) {
+            return err(
+                format!("material[{i}].young"),
+                format!(
+                    "must be positive, within [{:e}, {:e}] Pa, got {:?}",
+                    YOUNG_RANGE.0, YOUNG_RANGE.1, m.young
+                ),
+            );
+        }
+        if !(m.poisson.is_finite() && m.poisson > -1.0 && m.poisson < 0.5) {
+            return err(
+                format!("material[{i}].poisson"),
+                format!("must lie in (-1, 0.5), got {:?}", m.poisson),
+            );
+        }
+        if !in_range(m.density, DENSITY_RANGE) {
+            return err(
+                format!("material[{i}].density"),
+                format!(
+                    "must be positive, within [{:e}, {:e}] kg/m³, got {:?}",
+                    DENSITY_RANGE.0, DENSITY_RANGE.1, m.density
+                ),
+            );
+        }
+    }
+    if spec.bodies.is_empty() {
+        return err(
+            "body".into(),
+            "at least one [[body]] (or a [granular] table) is needed".into(),
+        );
+    }
+    let mut body_index: HashMap<&str, usize> = HashMap::with_capacity(spec.bodies.len());
+    for (i, b) in spec.bodies.iter().enumerate() {
+        if body_index.insert(&b.name, i).is_some() {
+            return err(
+                format!("body[{i}].name"),
+                format!("duplicate body name `{}`", b.name),
+            );
+        }
+        if !spec.materials.iter().any(|m| m.name == b.material) {
+            return err(
+                format!("body[{i}].material"),
+                format!("no material named `{}`", b.material),
+            );
+        }
+        for a in 0..3 {
+            let axis = ["x", "y", "z"][a];
+            if !(b.min[a].is_finite() && b.max[a].is_finite() && b.max[a] > b.min[a]) {
+                return err(
+                    format!("body[{i}].max"),
+                    format!(
+                        "max.{axis} = {:?} must exceed min.{axis} = {:?}",
+                        b.max[a], b.min[a]
+                    ),
+                );
+            }
+            if b.divisions[a] == 0 {
+                return err(
+                    format!("body[{i}].divisions"),
+                    format!("{axis} division must be at least 1"),
+                );
+            }
+            if b.split[a] == 0 || b.divisions[a] % b.split[a] != 0 {
+                return err(
+                    format!("body[{i}].split"),
+                    format!(
+                        "{axis}: {} substructures do not divide {} hexahedra",
+                        b.split[a], b.divisions[a]
+                    ),
+                );
+            }
+        }
+        if b.velocity.iter().any(|v| !v.is_finite()) {
+            return err(format!("body[{i}].velocity"), "must be finite".into());
+        }
+    }
+    let mut pairs: HashMap<(usize, usize), usize> = HashMap::with_capacity(spec.interfaces.len());
+    for (i, it) in spec.interfaces.iter().enumerate() {
+        for (j, name) in it.bodies.iter().enumerate() {
+            if !body_index.contains_key(name.as_str()) {
+                return err(
+                    format!("interface[{i}].bodies[{j}]"),
+                    format!("no body named `{name}`"),
+                );
+            }
+        }
+        if it.bodies[0] == it.bodies[1] {
+            return err(
+                format!("interface[{i}].bodies"),
+                "the two bodies must differ".into(),
+            );
+        }
+        if let Some(first) = pairs.insert(pair_key(&body_index, &it.bodies), i) {
+            return err(
+                format!("interface[{i}].bodies"),
+                format!(
+                    "bodies `{}` and `{}` already have an override (interface[{first}])",
+                    it.bodies[0], it.bodies[1]
+                ),
+            );
+        }
+        let contact = it.kind == InterfaceKind::Contact;
+        for (field, value) in [
+            ("friction", it.friction),
+            ("gap", it.gap),
+            ("search", it.search),
+        ] {
+            if let Some(v) = value {
+                if !contact {
+                    return err(
+                        format!("interface[{i}].{field}"),
+                        format!("only a contact interface takes `{field}`"),
+                    );
+                }
+                if !(v.is_finite() && v >= 0.0) {
+                    return err(
+                        format!("interface[{i}].{field}"),
+                        format!("must be a non-negative number, got {v}"),
+                    );
+                }
+            }
+        }
+    }
+    for (i, bc) in spec.boundaries.iter().enumerate() {
+        if !body_index.contains_key(bc.body.as_str()) {
+            return err(
+                format!("boundary[{i}].body"),
+                format!("no body named `{}`", bc.body),
+            );
+        }
+        if face_of(&bc.face).is_none() {
+            return err(
+                format!("boundary[{i}].face"),
+                format!("expected one of x-, x+, y-, y+, z-, z+, got `{}`", bc.face),
+            );
+        }
+        boundary_dofs(bc).map_err(|(field, reason)| {
+            LopinError::scene(source, format!("boundary[{i}].{field}"), reason)
+        })?;
+    }
+    check_physics(spec, source)?;
+    if let Some(k) = spec.solver.k {
+        check_k(spec, source, k)?;
+    }
+    if generated == Generated::No {
+        check_overlaps(spec, source)?;
+        admission::admit(spec, source, SolveShape::smallest())?;
+    }
+    Ok(())
+}
+
+/// The checks that relate fields to each other: sizes and coordinates in range, the time step
+/// against the wave transit time of the smallest element, velocities against the slowest wave
+/// speed (small strains), tractions against the stiffness, gaps against the model size.
+fn check_physics(spec: &SceneSpec, source: &str) -> Result<()> {
+    let err = |field: String, reason: String| Err(LopinError::scene(source, field, reason));
+    let material = |name: &str| {
+        spec.materials
+            .iter()
+            .find(|m| m.name == name)
+            .map(|m| Material {
+                young: m.young,
+                poisson: m.poisson,
+                density: m.density,
+            })
+    };
+    let mut h_min = f64::INFINITY;
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for (i, b) in spec.bodies.iter().enumerate() {
+        for a in 0..3 {
+            for (field, x) in [("min", b.min[a]), ("max", b.max[a])] {
+                if x.abs() > LENGTH_RANGE.1 {
+                    return err(
+                        format!("body[{i}].{field}"),
+                        format!(
+                            "{field}.{} = {x:?} m lies beyond ±{:e} m",
+                            ["x", "y", "z"][a],
+                            LENGTH_RANGE.1
+                        ),
+                    );
+                }
+            }
+            let h = (b.max[a] - b.min[a]) / b.divisions[a] as f64;
+            if h < LENGTH_RANGE.0 {
+                return err(
+                    format!("body[{i}].divisions"),
+                    format!(
+                        "{} hexahedra along {} make elements of {h:e} m, below {:e} m",
+                        b.divisions[a],
+                        ["x", "y", "z"][a],
+                        LENGTH_RANGE.0
+                    ),
+                );
+            }
+            h_min = h_min.min(h);
+            lo[a] = lo[a].min(b.min[a]);
+            hi[a] = hi[a].max(b.max[a]);
+        }
+    }
+    let diameter = crate::mesh::norm(crate::mesh::sub(hi, lo));
+    let used: Vec<Material> = spec
+        .bodies
+        .iter()
+        .filter_map(|b| material(&b.material))
+        .collect();
+    let c_max = used.iter().map(Material::p_wave_speed).fold(0.0, f64::max);
+    let (c_min, slowest) = spec
+        .bodies
+        .iter()
+        .filter_map(|b| material(&b.material).map(|m| (m.bar_speed(), b.material.as_str())))
+        .fold((f64::INFINITY, ""), |a, b| if b.0 < a.0 { b } else { a });
+    let transit = h_min / c_max;
+    let courant = spec.time.dt / transit;
+    if !in_range(courant, COURANT_RANGE) {
+        return err(
+            "time.dt".into(),
+            format!(
+                "{:?} s is {courant:.3e} times the time a P wave takes to cross the smallest \
+                 element ({transit:.3e} s = {h_min:.3e} m / {c_max:.3e} m/s); Lopin accepts {:e} \
+                 to {:e} times it",
+                spec.time.dt, COURANT_RANGE.0, COURANT_RANGE.1
+            ),
+        );
+    }
+    let too_fast = |v: f64| v.abs() > c_min;
+    let speed_reason = |v: f64| {
+        format!(
+            "{v:?} m/s is faster than the slowest wave speed of the model ({c_min:.4e} m/s in              `{slowest}`): the strains would not be small"
+        )
+    };
+    for (i, b) in spec.bodies.iter().enumerate() {
+        if let Some(&v) = b.velocity.iter().find(|v| too_fast(**v)) {
+            return err(format!("body[{i}].velocity"), speed_reason(v));
+        }
+    }
+    for (i, bc) in spec.boundaries.iter().enumerate() {
+        let young = spec
+            .bodies
+            .iter()
+            .find(|b| b.name == bc.body)
+            .and_then(|b| material(&b.material))
+            .map_or(f64::INFINITY, |m| m.young);
+        for (axis, c) in [("x", &bc.x), ("y", &bc.y), ("z", &bc.z)] {
+            let Some(c) = c else { continue };
+            if let Some(v) = c.velocity.filter(|v| too_fast(*v)) {
+                return err(format!("boundary[{i}].{axis}.velocity"), speed_reason(v));
+            }
+            if let Some(t) = c.traction.filter(|t| t.abs() > young) {
+                return err(
+                    format!("boundary[{i}].{axis}.traction"),
+                    format!(
+                        "{t:?} Pa exceeds the Young's modulus {young:e} Pa of the body's \
+                         material: the strains would not be small"
+                    ),
+                );
+            }
+        }
+    }
+    for (i, it) in spec.interfaces.iter().enumerate() {
+        for (field, value) in [("gap", it.gap), ("search", it.search)] {
+            if let Some(v) = value.filter(|v| *v > diameter) {
+                return err(
+                    format!("interface[{i}].{field}"),
+                    format!("{v:?} m exceeds the size of the whole model ({diameter:.4e} m)"),
+                );
+            }
+        }
+    }
+    Ok(())
+}
+
+/// `solver.k` within [`K_RANGE`] times k0, the mean √(ρE) of the materials the bodies use.
+fn check_k(spec: &SceneSpec, source: &str, k: f64) -> Result<()> {
+    let mut used: Vec<&str> = spec.bodies.iter().map(|b| b.material.as_str()).collect();
+    used.sort_unstable();
+    used.dedup();
+    let impedances: Vec<f64> = spec
+        .materials
+        .iter()
+        .filter(|m| used.contains(&m.name.as_str()))
+        .map(|m| (m.density * m.young).sqrt())
+        .collect();
+    let k0 = impedances.iter().sum::<f64>() / impedances.len().max(1) as f64;
+    let ratio = k / k0;
+    if !(ratio >= K_RANGE.0 && ratio <= K_RANGE.1) {
+        return Err(LopinError::scene(
+            source,
+            "solver.k",
+            format!(
+                "{k:?} Pa·s/m is {ratio:.3e} times the model's impedance √(ρE) = {k0:.4e} Pa·s/m; \
+                 LATIN needs k within {:e} to {:e} times it",
+                K_RANGE.0, K_RANGE.1
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// Bodies may touch but not overlap: a positive-volume intersection of two boxes is an error
+/// naming both bodies and the overlap (bodies sorted along x, each compared with those whose x
+/// ranges meet it).
+fn check_overlaps(spec: &SceneSpec, source: &str) -> Result<()> {
+    let mut order: Vec<usize> = (0..spec.bodies.len()).collect();
+    order.sort_by(|&a, &b| spec.bodies[a].min[0].total_cmp(&spec.bodies[b].min[0]));
+    for (k, &i) in order.iter().enumerate() {
+        let a = &spec.bodies[i];
+        for &j in &order[k + 1..] {
+            let b = &spec.bodies[j];
+            if b.min[0] >= a.max[0] {
+                break;
+            }
+            let overlap: [(f64, f64); 3] =
+                std::array::from_fn(|c| (a.min[c].max(b.min[c]), a.max[c].min(b.max[c])));
+            let tol = |c: usize| 1e-9 * (a.max[c] - a.min[c]).min(b.max[c] - b.min[c]);
+            if (0..3).all(|c| overlap[c].1 - overlap[c].0 > tol(c)) {
+                let (first, second) = (i.min(j), i.max(j));
+                return Err(LopinError::scene(
+                    source,
+                    format!("body[{second}]"),
+                    format!(
+                        "bodies `{}` and `{}` overlap over [{:e}, {:e}] × [{:e}, {:e}] × [{:e}, \
+                         {:e}] m (bodies may touch, not overlap)",
+                        spec.bodies[first].name,
+                        spec.bodies[second].name,
+                        overlap[0].0,
+                        overlap[0].1,
+                        overlap[1].0,
+                        overlap[1].1,
+                        overlap[2].0,
+                        overlap[2].1
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The prescribed dofs of a boundary, or (field, reason).
+pub(crate) fn boundary_dofs(
+    bc: &BoundarySpec,
+) -> std::result::Result<Vec<BoundaryDof>, (String, String)> {
+    let comps = [&bc.x, &bc.y, &bc.z];
+    if bc.clamped {
+        if comps.iter().any(|c| c.is_some()) {
+            return Err((
+                "clamped".into(),
+                "clamped = true cannot be combined with x, y or z".into(),
+            ));
+        }
+        return Ok((0..3)
+            .map(|component| BoundaryDof {
+                component,
+                law: DofLaw::Velocity(TimeFunction::constant(0.0)),
+            })
+            .collect());
+    }
+    let mut dofs = Vec::new();
+    for (component, c) in comps.iter().enumerate() {
+        let Some(c) = c else { continue };
+        let axis = ["x", "y", "z"][component];
+        dofs.push(BoundaryDof {
+            component,
+            law: component_law(c).map_err(|r| (axis.to_string(), r))?,
+        });
+    }
+    if dofs.is_empty() {
+        return Err((
+            "x".into(),
+            "a boundary must prescribe at least one component (or clamped = true)".into(),
+        ));
+    }
+    Ok(dofs)
+}
+
+fn component_law(c: &ComponentSpec) -> std::result::Result<DofLaw, String> {
+    if !(c.ramp_time.is_finite() && c.ramp_time >= 0.0) {
+        return Err(format!(
+            "ramp_time must be a non-negative number, got {:?}",
+            c.ramp_time
+        ));
+    }
+    let f = |amplitude: f64| TimeFunction {
+        amplitude,
+        ramp: c.ramp,
+        ramp_time: c.ramp_time,
+    };
+    match (c.velocity, c.traction) {
+        (Some(v), None) if v.is_finite() => Ok(DofLaw::Velocity(f(v))),
+        (None, Some(t)) if t.is_finite() => Ok(DofLaw::Traction(f(t))),
+        (Some(_), Some(_)) => Err("give either `velocity` or `traction`, not both".into()),
+        (None, None) => Err("give `velocity` or `traction`".into()),
+        _ => Err("value must be finite".into()),
+    }
+}
+
+/// The unordered pair of two (existing) body names as ordered body indices.
+pub(crate) fn pair_key(body_index: &HashMap<&str, usize>, bodies: &[String; 2]) -> (usize, usize) {
+    let a = body_index
+        .get(bodies[0].as_str())
+        .copied()
+        .unwrap_or_default();
+    let b = body_index
+        .get(bodies[1].as_str())
+        .copied()
+        .unwrap_or_default();
+    (a.min(b), a.max(b))
+}
+
+fn in_range(x: f64, (lo, hi): (f64, f64)) -> bool {
+    x.is_finite() && x >= lo && x <= hi
+}
