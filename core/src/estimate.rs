@@ -207,7 +207,7 @@ fn threads() -> usize {
     }
 }
 
-/// Bytes in KiB/MiB/GiB/TiB.
+/// Bytes in B, KiB, MiB, GiB, TiB, PiB or EiB.
 pub fn bytes(b: usize) -> String {
     crate::scene::admission::bytes(b as u64)
 }

@@ -518,17 +518,18 @@ fn touched_fraction(
     touched.min(1.0)
 }
 
-/// Bytes in KiB/MiB/GiB/TiB.
+/// Bytes in B, KiB, MiB, GiB, TiB, PiB or EiB.
 pub fn bytes(b: u64) -> String {
-    let b = b as f64;
-    let unit = |p: i32| 1024f64.powi(p);
-    if b >= unit(4) {
-        format!("{:.2} TiB", b / unit(4))
-    } else if b >= unit(3) {
-        format!("{:.2} GiB", b / unit(3))
-    } else if b >= unit(2) {
-        format!("{:.1} MiB", b / unit(2))
-    } else {
-        format!("{:.1} KiB", b / unit(1))
+    const UNITS: [&str; 6] = ["KiB", "MiB", "GiB", "TiB", "PiB", "EiB"];
+    if b < 1024 {
+        return format!("{b} B");
     }
+    let mut value = b as f64 / 1024.0;
+    let mut unit = 0;
+    while value >= 1024.0 && unit + 1 < UNITS.len() {
+        value /= 1024.0;
+        unit += 1;
+    }
+    let digits = if unit >= 2 { 2 } else { 1 };
+    format!("{value:.digits$} {}", UNITS[unit])
 }

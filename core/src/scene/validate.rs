@@ -356,7 +356,8 @@ fn check_physics(spec: &SceneSpec, source: &str) -> Result<()> {
     let too_fast = |v: f64| v.abs() > c_min;
     let speed_reason = |v: f64| {
         format!(
-            "{v:?} m/s is faster than the slowest wave speed of the model ({c_min:.4e} m/s in              `{slowest}`): the strains would not be small"
+            "{v:?} m/s is faster than the slowest wave speed of the model ({c_min:.4e} m/s in \
+             `{slowest}`): the strains would not be small"
         )
     };
     for (i, b) in spec.bodies.iter().enumerate() {
@@ -449,8 +450,8 @@ fn check_overlaps(spec: &SceneSpec, source: &str) -> Result<()> {
                     source,
                     format!("body[{second}]"),
                     format!(
-                        "bodies `{}` and `{}` overlap over [{:e}, {:e}] × [{:e}, {:e}] × [{:e}, \
-                         {:e}] m (bodies may touch, not overlap)",
+                        "bodies `{}` and `{}` overlap over [{:?}, {:?}] × [{:?}, {:?}] × [{:?}, \
+                         {:?}] m (bodies may touch, not overlap)",
                         spec.bodies[first].name,
                         spec.bodies[second].name,
                         overlap[0].0,
