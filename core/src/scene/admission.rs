@@ -175,19 +175,23 @@ pub fn machine_memory() -> Result<Option<MemoryBudget>> {
 
 /// Parses "123", "1.5e9", "512MiB", "8 GiB", "2TiB".
 pub fn parse_bytes(text: &str) -> Option<u64> {
+    const KI: f64 = 1024.0;
+    let units = [
+        ("TiB", KI * KI * KI * KI),
+        ("GiB", KI * KI * KI),
+        ("MiB", KI * KI),
+        ("KiB", KI),
+        ("T", KI * KI * KI * KI),
+        ("G", KI * KI * KI),
+        ("M", KI * KI),
+        ("K", KI),
+        ("B", 1.0),
+    ];
     let t = text.trim();
-    let (number, unit) = match t.find(|c: char| c.is_ascii_alphabetic()) {
-        Some(i) if !t[..i].ends_with(['e', 'E']) => t.split_at(i),
-        _ => (t, ""),
-    };
-    let scale: f64 = match unit.trim() {
-        "" | "B" => 1.0,
-        "KiB" | "K" | "k" => 1024.0,
-        "MiB" | "M" => 1024.0 * 1024.0,
-        "GiB" | "G" => 1024.0 * 1024.0 * 1024.0,
-        "TiB" | "T" => 1024.0 * 1024.0 * 1024.0 * 1024.0,
-        _ => return None,
-    };
+    let (number, scale) = units
+        .iter()
+        .find_map(|(u, scale)| t.strip_suffix(u).map(|n| (n, *scale)))
+        .unwrap_or((t, 1.0));
     let value: f64 = number.trim().parse().ok()?;
     let b = value * scale;
     (b.is_finite() && b >= 1.0 && b < u64::MAX as f64).then_some(b as u64)
@@ -283,6 +287,11 @@ pub fn footprint(spec: &SceneSpec, source: &str, shape: SolveShape) -> Result<Fo
         None => body_pieces(spec).ok_or_else(|| overflow("body"))?,
     };
     let fit = |x: u128, field: &str| usize::try_from(x).map_err(|_| overflow(field));
+    let field = if spec.granular.is_some() {
+        "granular"
+    } else {
+        "body"
+    };
     let mut substructures = 0u128;
     let mut elements = 0u128;
     let mut nodes = 0u128;
@@ -291,73 +300,90 @@ pub fn footprint(spec: &SceneSpec, source: &str, shape: SolveShape) -> Result<Fo
     let mut macro_ = 0u128;
     let mut classes = 0u128;
     for g in &groups {
-        let e: u128 = g.div.iter().product();
-        let node_dims = g.div.map(|d| d + 1);
-        let n: u128 = node_dims.iter().product();
-        let ndof = 3 * n;
-        substructures += g.count;
+        let sizes = group_sizes(g).ok_or_else(|| overflow(field))?;
+        substructures = substructures
+            .checked_add(g.count)
+            .ok_or_else(|| overflow(field))?;
         elements = elements
-            .checked_add(g.count.checked_mul(e).ok_or_else(|| overflow("body"))?)
-            .ok_or_else(|| overflow("body"))?;
+            .checked_add(sizes.elements)
+            .ok_or_else(|| overflow(field))?;
         nodes = nodes
-            .checked_add(g.count.checked_mul(n).ok_or_else(|| overflow("body"))?)
-            .ok_or_else(|| overflow("body"))?;
-        // stiffness in full CSC: 9 entries per pair of neighbouring nodes, once per group; mass,
-        // linear-stage work and window-start vectors (13 per dof) per substructure
-        let nnz: u128 = 9 * g.div.iter().map(|d| 3 * d + 1).product::<u128>();
-        operator += nnz * 2 * F64 + g.count * 13 * ndof * F64;
-        // the factor of S per expected distinct factorization: a band of the two smallest node
-        // layers, or the n^(4/3) growth of nested dissection on large 3D meshes (35 n^(4/3):
-        // 19.8 M entries measured for 20,577 dofs), whichever is smaller
-        let mut dims = node_dims;
-        dims.sort_unstable();
-        let band = ndof.saturating_mul((3 * dims[0] * dims[1]).min(ndof));
-        let dissection = (35.0 * (ndof as f64).powf(4.0 / 3.0)).min(u128::MAX as f64 / 2.0) as u128;
-        factor = factor.saturating_add(
-            g.classes
-                .saturating_mul(band.min(dissection))
-                .saturating_mul(FACTOR_ENTRY),
-        );
-        classes += g.classes;
+            .checked_add(sizes.nodes)
+            .ok_or_else(|| overflow(field))?;
+        // byte counts saturate: beyond 2¹²⁸ the verdict is the same
+        operator = operator.saturating_add(sizes.operator_bytes);
+        factor = factor.saturating_add(sizes.factor_bytes);
+        classes = classes.saturating_add(g.classes);
         if shape.two_scale {
-            // Z_E: 9 macro fields per face of the substructure, a column per field
-            macro_ += g.classes * ndof * 54 * F64;
+            macro_ = macro_.saturating_add(sizes.macro_bytes);
         }
     }
-    let steps = spec.time.steps as u128;
-    let n1 = steps.checked_add(1).ok_or_else(|| overflow("time.steps"))?;
+    let n1 = spec.time.steps as u128 + 1;
     // s, s_new (per substructure trace) and ŝ (per interface side): F and W each
-    let interface = n1
-        .checked_mul(trace)
-        .and_then(|x| x.checked_mul(2 * F64 * 3))
-        .ok_or_else(|| overflow("time.steps"))?;
+    let interface = n1.saturating_mul(trace).saturating_mul(2 * F64 * 3);
     let whole = shape.window.is_none_or(|w| w >= spec.time.steps);
     let cache = if whole && shape.skip_unchanged && !shape.two_scale {
-        n1.checked_mul(trace)
-            .and_then(|x| x.checked_mul(4 * F64))
-            .ok_or_else(|| overflow("time.steps"))?
+        n1.saturating_mul(trace).saturating_mul(4 * F64)
     } else {
         0
     };
     // byte counts beyond 16 EiB are shown as 16 EiB: the verdict is the same
-    let to_u64 =
-        |x: u128, _field: &str| -> Result<u64> { Ok(u64::try_from(x).unwrap_or(u64::MAX)) };
+    let to_u64 = |x: u128| u64::try_from(x).unwrap_or(u64::MAX);
     Ok(Footprint {
-        substructures: fit(substructures, "body")?,
-        elements: fit(elements, "body")?,
-        nodes: fit(nodes, "body")?,
-        dofs: fit(
-            nodes.checked_mul(3).ok_or_else(|| overflow("body"))?,
-            "body",
-        )?,
-        trace_entries: fit(trace, "body")?,
+        substructures: fit(substructures, field)?,
+        elements: fit(elements, field)?,
+        nodes: fit(nodes, field)?,
+        dofs: fit(nodes.checked_mul(3).ok_or_else(|| overflow(field))?, field)?,
+        trace_entries: fit(trace, field)?,
         steps: spec.time.steps,
-        factorizations: fit(classes, "body")?,
-        interface_bytes: to_u64(interface, "time.steps")?,
-        cache_bytes: to_u64(cache, "time.steps")?,
-        operator_bytes: to_u64(operator, "body")?,
-        factor_bytes: to_u64(factor, "body")?,
-        macro_bytes: to_u64(macro_, "body")?,
+        factorizations: fit(classes, field)?,
+        interface_bytes: to_u64(interface),
+        cache_bytes: to_u64(cache),
+        operator_bytes: to_u64(operator),
+        factor_bytes: to_u64(factor),
+        macro_bytes: to_u64(macro_),
+    })
+}
+
+/// What one group of identical substructures holds; None when a count overflows.
+struct GroupSizes {
+    elements: u128,
+    nodes: u128,
+    operator_bytes: u128,
+    factor_bytes: u128,
+    macro_bytes: u128,
+}
+
+fn group_sizes(g: &PieceGroup) -> Option<GroupSizes> {
+    let product = |v: [u128; 3]| v[0].checked_mul(v[1])?.checked_mul(v[2]);
+    let node_dims = g.div.map(|d| d.saturating_add(1));
+    let per_piece_nodes = product(node_dims)?;
+    let ndof = per_piece_nodes.checked_mul(3)?;
+    // stiffness in full CSC: 9 entries per pair of neighbouring nodes, once per group; mass,
+    // linear-stage work and window-start vectors (13 per dof) per substructure
+    let nnz = product(g.div.map(|d| d.saturating_mul(3).saturating_add(1)))?.checked_mul(9)?;
+    let operator_bytes = nnz
+        .saturating_mul(2 * F64)
+        .saturating_add(g.count.saturating_mul(ndof).saturating_mul(13 * F64));
+    // the factor of S per expected distinct factorization: a band of the two smallest node
+    // layers, or the n^(4/3) growth of nested dissection on large 3D meshes (35 n^(4/3): 19.8 M
+    // entries measured for 20,577 dofs), whichever is smaller
+    let mut dims = node_dims;
+    dims.sort_unstable();
+    let band = ndof.saturating_mul(dims[0].saturating_mul(dims[1]).saturating_mul(3).min(ndof));
+    let dissection = (35.0 * (ndof as f64).powf(4.0 / 3.0)).min(u128::MAX as f64 / 2.0) as u128;
+    let factor_bytes = g
+        .classes
+        .saturating_mul(band.min(dissection))
+        .saturating_mul(FACTOR_ENTRY);
+    // Z_E: 9 macro fields per face of the substructure, a column per field
+    let macro_bytes = g.classes.saturating_mul(ndof).saturating_mul(54 * F64);
+    Some(GroupSizes {
+        elements: g.count.checked_mul(product(g.div)?)?,
+        nodes: g.count.checked_mul(per_piece_nodes)?,
+        operator_bytes,
+        factor_bytes,
+        macro_bytes,
     })
 }
 
@@ -532,4 +558,54 @@ pub fn bytes(b: u64) -> String {
     }
     let digits = if unit >= 2 { 2 } else { 1 };
     format!("{value:.digits$} {}", UNITS[unit])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::registry;
+
+    fn scene(name: &str) -> SceneSpec {
+        registry::parse(name)
+            .expect("a registry scene")
+            .expect("parses")
+    }
+
+    #[test]
+    fn counts_that_overflow_are_errors_and_byte_counts_saturate() {
+        // 2·10¹⁴ hexahedra per axis: 8·10⁴² elements do not fit any count
+        let mut spec = scene("two-blocks");
+        spec.bodies[0].divisions = [200_000_000_000_000; 3];
+        let e = footprint(&spec, "f.toml", SolveShape::smallest()).expect_err("overflow");
+        assert!(e.to_string().contains("too large to count"), "{e}");
+        // a granular cell of 10⁷ hexahedra per edge: 10²¹ per cell, counted, bytes saturated
+        let mut spec = scene("granular-small");
+        if let Some(g) = &mut spec.granular {
+            g.cell_elements = 10_000_000;
+        }
+        let e = footprint(&spec, "g.toml", SolveShape::smallest()).expect_err("overflow");
+        assert!(e.to_string().contains("granular"), "{e}");
+        if let Some(g) = &mut spec.granular {
+            g.cell_elements = 100_000;
+        }
+        let fp = footprint(&spec, "g.toml", SolveShape::smallest()).expect("counts");
+        assert_eq!(fp.elements, 64 * 100_000usize.pow(3));
+        assert_eq!(fp.factor_bytes, u64::MAX);
+    }
+
+    #[test]
+    fn memory_limits_parse_with_their_units() {
+        assert_eq!(parse_bytes("123"), Some(123));
+        assert_eq!(parse_bytes("1.5e9"), Some(1_500_000_000));
+        assert_eq!(parse_bytes("512MiB"), Some(512 << 20));
+        assert_eq!(parse_bytes("8 GiB"), Some(8 << 30));
+        assert_eq!(parse_bytes("2TiB"), Some(2 << 40));
+        for bad in ["", "lots", "-1", "0", "1e300", "5 parsecs"] {
+            assert_eq!(parse_bytes(bad), None, "{bad}");
+        }
+        assert_eq!(bytes(0), "0 B");
+        assert_eq!(bytes(1536), "1.5 KiB");
+        assert_eq!(bytes(3 << 30), "3.00 GiB");
+        assert_eq!(bytes(u64::MAX), "16.00 EiB");
+    }
 }

@@ -27,7 +27,25 @@ pub fn validate(spec: &SceneSpec, source: &str) -> Result<()> {
         // counted and admitted before the table is expanded into one body per cell
         granular::validate(spec, source)?;
         admission::admit(spec, source, SolveShape::smallest())?;
-        return validate_expanded(&granular::expand(spec, source)?, source, Generated::Yes);
+        // a generated body, interface or boundary is the [granular] table's doing: say so
+        return validate_expanded(&granular::expand(spec, source)?, source, Generated::Yes)
+            .map_err(|e| match e {
+                LopinError::Scene {
+                    source_name,
+                    field,
+                    reason,
+                } if ["body", "interface", "boundary"]
+                    .iter()
+                    .any(|p| field.starts_with(p)) =>
+                {
+                    LopinError::Scene {
+                        source_name,
+                        field: format!("granular (generated {field})"),
+                        reason,
+                    }
+                }
+                other => other,
+            });
     }
     validate_expanded(spec, source, Generated::No)
 }
