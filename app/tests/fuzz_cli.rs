@@ -793,12 +793,7 @@ fn fuzzed_command_lines_exit_cleanly_name_their_errors_and_print_finite_numbers(
         slowest.0.as_secs_f64(),
         slowest.1
     );
-    assert!(
-        failures.is_empty(),
-        "{} failure(s) (seed {seed:#x}):\n\n{}",
-        failures.len(),
-        failures.join("\n\n")
-    );
+    fuzz_runner::assert_no_failures(&failures, seed);
 }
 
 /// The checks themselves: nulls where results belong, non-finite words, error naming.

@@ -34,3 +34,13 @@ pub fn runner(cases: u32, default: u64) -> (TestRunner, u64) {
         seed,
     )
 }
+
+/// Fails the test with every failure listed, if there is any.
+pub fn assert_no_failures(failures: &[String], seed: u64) {
+    assert!(
+        failures.is_empty(),
+        "{} failure(s) (seed {seed:#x}):\n\n{}",
+        failures.len(),
+        failures.join("\n\n")
+    );
+}

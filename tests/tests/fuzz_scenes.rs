@@ -816,12 +816,7 @@ fn mutated_scenes_never_panic_hang_or_report_non_finite_numbers() {
         start.elapsed().as_secs_f64(),
         slowest.0.as_secs_f64()
     );
-    assert!(
-        failures.is_empty(),
-        "{} failure(s) (seed {seed:#x}):\n\n{}",
-        failures.len(),
-        failures.join("\n\n")
-    );
+    fuzz_runner::assert_no_failures(&failures, seed);
 }
 
 /// The mutators do what they say on a known text.

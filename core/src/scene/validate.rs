@@ -431,19 +431,21 @@ fn check_k(spec: &SceneSpec, source: &str, k: f64) -> Result<()> {
         .map(|m| (m.density * m.young).sqrt())
         .collect();
     let k0 = impedances.iter().sum::<f64>() / impedances.len().max(1) as f64;
+    check_k_against(k, k0).map_err(|reason| LopinError::scene(source, "solver.k", reason))
+}
+
+/// The search direction k against the impedance scale k0: within [`K_RANGE`] times it, or the
+/// reason it is not (shared by the scene check and the solver's settings check).
+pub fn check_k_against(k: f64, k0: f64) -> std::result::Result<(), String> {
     let ratio = k / k0;
-    if !(ratio >= K_RANGE.0 && ratio <= K_RANGE.1) {
-        return Err(LopinError::scene(
-            source,
-            "solver.k",
-            format!(
-                "{k:?} Pa·s/m is {ratio:.3e} times the model's impedance √(ρE) = {k0:.4e} Pa·s/m; \
-                 LATIN needs k within {:e} to {:e} times it",
-                K_RANGE.0, K_RANGE.1
-            ),
-        ));
+    if ratio >= K_RANGE.0 && ratio <= K_RANGE.1 {
+        return Ok(());
     }
-    Ok(())
+    Err(format!(
+        "{k:?} Pa·s/m is {ratio:.3e} times the model's impedance √(ρE) = {k0:.4e} Pa·s/m; \
+         LATIN needs k within {:e} to {:e} times it",
+        K_RANGE.0, K_RANGE.1
+    ))
 }
 
 /// Bodies may touch but not overlap: a positive-volume intersection of two boxes is an error

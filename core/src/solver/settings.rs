@@ -40,9 +40,6 @@ impl Settings {
     /// Default iteration limit.
     pub const MAX_ITER: usize = 2000;
 
-    /// The search direction k relative to the impedance scale k0 that a solve accepts.
-    pub const K_RANGE: (f64, f64) = crate::scene::validate::K_RANGE;
-
     /// The defaults for a problem, overridden by the scene's solver section.
     pub fn for_problem(problem: &Problem, spec: &SolverSpec) -> Self {
         Self {
@@ -87,24 +84,11 @@ impl Settings {
         Ok(())
     }
 
-    /// Checks the settings against a problem: k within [`Self::K_RANGE`] times the problem's
-    /// impedance scale k0 = mean √(ρE) (METHOD §10), the error naming both.
+    /// Checks the settings against a problem: k within [`crate::scene::validate::K_RANGE`]
+    /// times the problem's impedance scale k0 = mean √(ρE) (METHOD §10), the error naming both.
     pub fn validate_for(&self, problem: &Problem) -> Result<()> {
         self.validate()?;
-        let k0 = problem.default_k();
-        let ratio = self.k / k0;
-        if !(ratio >= Self::K_RANGE.0 && ratio <= Self::K_RANGE.1) {
-            return Err(LopinError::setting(
-                "k",
-                format!(
-                    "{:?} Pa·s/m is {ratio:.3e} times the model's impedance √(ρE) = {k0:.4e} \
-                     Pa·s/m; LATIN needs k within {:e} to {:e} times it",
-                    self.k,
-                    Self::K_RANGE.0,
-                    Self::K_RANGE.1
-                ),
-            ));
-        }
-        Ok(())
+        crate::scene::validate::check_k_against(self.k, problem.default_k())
+            .map_err(|reason| LopinError::setting("k", reason))
     }
 }
