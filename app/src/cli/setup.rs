@@ -104,16 +104,22 @@ pub fn admitted(args: &SceneArgs) -> anyhow::Result<Admitted> {
     spec.split(args.split)
         .with_context(|| format!("--split {}", args.split))?;
     let source = scene::source_label(&args.scene);
-    // nothing large is allocated before the request is known to fit
-    let footprint = scene::build::validate(&spec, &source)
-        .and_then(|()| admit(&spec, &source, args.shape(&spec)))
-        .map_err(|e| match &e {
-            LopinError::TooLarge { .. } => match largest_refine_that_fits(args) {
-                Some(r) => anyhow::anyhow!("{e}; with this scene, --refine {r} fits"),
-                None => anyhow::Error::new(e),
-            },
-            _ => anyhow::Error::new(e),
-        })?;
+    // nothing large is allocated before the request is known to fit; loading validated the
+    // scene as written, so only a refined or split one is validated again
+    let resized = args.refine != 1 || args.split != 1;
+    let footprint = (if resized {
+        scene::build::validate(&spec, &source)
+    } else {
+        Ok(())
+    })
+    .and_then(|()| admit(&spec, &source, args.shape(&spec)))
+    .map_err(|e| match &e {
+        LopinError::TooLarge { .. } => match largest_refine_that_fits(args) {
+            Some(r) => anyhow::anyhow!("{e}; with this scene, --refine {r} fits"),
+            None => anyhow::Error::new(e),
+        },
+        _ => anyhow::Error::new(e),
+    })?;
     if let Some(f) = args.friction {
         Parameter::Friction
             .check(f)
