@@ -108,11 +108,13 @@ pub fn detect_interfaces(
 
     // Phase 2: contact faces facing each other across a gap (pairs whose bounding boxes are
     // farther apart than the search distance are skipped before their faces are compared).
+    let mut max_search = 0.0f64;
     for s in 0..subs.len() {
         for t in s + 1..subs.len() {
             let PairRule::Contact { search, .. } = pair_rule(s, t) else {
                 continue;
             };
+            max_search = max_search.max(search);
             if search <= 0.0 || box_distance(&boxes[s], &boxes[t]) > search + REL_TOL * diameter {
                 continue;
             }
@@ -147,7 +149,7 @@ pub fn detect_interfaces(
         }
     }
 
-    check_conforming(subs, &boxes, &faces, &matched, &pair_rule)?;
+    check_conforming(subs, &boxes, &faces, &matched, &pair_rule, max_search)?;
 
     Ok(groups
         .into_iter()
@@ -327,13 +329,15 @@ fn pair_nodes(
 }
 
 /// Errors when an unmatched face of one substructure lies on a boundary face of another
-/// (the two touch on a face region without conforming nodes).
+/// (the two touch on a face region without conforming nodes), or faces another across a contact
+/// search distance (at most `max_search`) without pairing.
 fn check_conforming(
     subs: &[Substructure],
     boxes: &[(Vec3, Vec3)],
     faces: &[Vec<Face>],
     matched: &[Vec<bool>],
     pair_rule: &dyn Fn(usize, usize) -> PairRule,
+    max_search: f64,
 ) -> Result<()> {
     for (s, fs) in faces.iter().enumerate() {
         for (f, face) in fs.iter().enumerate() {
@@ -363,11 +367,18 @@ fn check_conforming(
             }
             // a contact face facing another body's face across a gap within the search distance
             // pairs node to node, or is reported: a contact never disappears silently
+            if max_search <= 0.0 {
+                continue;
+            }
             for (t, other_faces) in faces.iter().enumerate() {
+                // nearby substructures first (cheap), then their rule
+                if t == s || box_distance(&boxes[s], &boxes[t]) > max_search + tol {
+                    continue;
+                }
                 let PairRule::Contact { search, .. } = pair_rule(s, t) else {
                     continue;
                 };
-                if t == s || search <= 0.0 || box_distance(&boxes[s], &boxes[t]) > search + tol {
+                if search <= 0.0 || box_distance(&boxes[s], &boxes[t]) > search + tol {
                     continue;
                 }
                 for other in other_faces {
