@@ -433,7 +433,8 @@ fn box_distance(a: &(Vec3, Vec3), b: &(Vec3, Vec3)) -> f64 {
     norm(gap)
 }
 
-fn model_diameter(boxes: &[(Vec3, Vec3)]) -> f64 {
+/// Length of the diagonal of the box holding all `boxes`.
+pub(crate) fn model_diameter(boxes: &[(Vec3, Vec3)]) -> f64 {
     let mut lo = [f64::INFINITY; 3];
     let mut hi = [f64::NEG_INFINITY; 3];
     for (a, b) in boxes {

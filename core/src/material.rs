@@ -56,3 +56,20 @@ impl Material {
         (self.density * self.young).sqrt()
     }
 }
+
+/// The slowest bar wave speed √(E/ρ) among (speed, material name) pairs, with its material.
+pub fn slowest<'a>(speeds: impl Iterator<Item = (f64, &'a str)>) -> (f64, &'a str) {
+    speeds.fold((f64::INFINITY, ""), |a, b| if b.0 < a.0 { b } else { a })
+}
+
+/// A velocity against the slowest wave speed of a model ([`slowest`]): a faster one means
+/// strains of order one, outside small-strain elasticity; the reason says so.
+pub fn check_small_strain_speed(v: f64, (c, name): (f64, &str)) -> Result<(), String> {
+    if v.abs() <= c {
+        return Ok(());
+    }
+    Err(format!(
+        "{v:?} m/s is faster than the slowest wave speed of the model ({c:.4e} m/s in \
+         `{name}`): the strains would not be small"
+    ))
+}

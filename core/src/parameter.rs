@@ -108,23 +108,12 @@ impl Parameter {
         self.check(value)?;
         match self {
             Self::VelocityAmplitude => {
-                let (c, name) = problem
-                    .subs
-                    .iter()
-                    .map(|s| {
-                        let n = &problem.materials[s.material_id].name;
-                        (s.material.bar_speed(), n.as_str())
-                    })
-                    .fold((f64::INFINITY, ""), |a, b| if b.0 < a.0 { b } else { a });
-                if value.abs() > c {
-                    return Err(LopinError::setting(
-                        "v0",
-                        format!(
-                            "{value:?} m/s is faster than the slowest wave speed of the model \
-                             ({c:.4e} m/s in `{name}`): the strains would not be small"
-                        ),
-                    ));
-                }
+                let slowest = crate::material::slowest(problem.subs.iter().map(|s| {
+                    let name = &problem.materials[s.material_id].name;
+                    (s.material.bar_speed(), name.as_str())
+                }));
+                crate::material::check_small_strain_speed(value, slowest)
+                    .map_err(|reason| LopinError::setting("v0", reason))?;
             }
             Self::Gap => {
                 let size = problem.diameter();

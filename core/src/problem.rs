@@ -53,16 +53,8 @@ impl Problem {
 
     /// Length of the diagonal of the box holding every substructure (m).
     pub fn diameter(&self) -> f64 {
-        let mut lo = [f64::INFINITY; 3];
-        let mut hi = [f64::NEG_INFINITY; 3];
-        for s in &self.subs {
-            let (a, b) = s.mesh.bounding_box();
-            for c in 0..3 {
-                lo[c] = lo[c].min(a[c]);
-                hi[c] = hi[c].max(b[c]);
-            }
-        }
-        crate::mesh::norm(crate::mesh::sub(hi, lo))
+        let boxes: Vec<_> = self.subs.iter().map(|s| s.mesh.bounding_box()).collect();
+        crate::detect::model_diameter(&boxes)
     }
 
     /// Number of contact interfaces.

@@ -217,33 +217,13 @@ impl SceneSpec {
     /// naming `refine` and the body (nothing is changed then).
     pub fn refine(&mut self, k: usize) -> Result<()> {
         let axes = axes_of(&self.refine_axes);
-        let too_large = |what: String| {
-            LopinError::setting(
-                "refine",
-                format!("{k} times {what} does not fit a 64-bit count"),
-            )
-        };
-        if let Some(g) = &self.granular {
-            g.cell_elements
-                .checked_mul(k)
-                .ok_or_else(|| too_large(format!("{} hexahedra per cell edge", g.cell_elements)))?;
-        }
-        for b in &self.bodies {
-            for &a in &axes {
-                b.divisions[a].checked_mul(k).ok_or_else(|| {
-                    too_large(format!("{} hexahedra of body `{}`", b.divisions[a], b.name))
-                })?;
-            }
-        }
-        if let Some(g) = &mut self.granular {
-            g.cell_elements *= k;
-        }
-        for b in &mut self.bodies {
-            for &a in &axes {
-                b.divisions[a] *= k;
-            }
-        }
-        Ok(())
+        self.multiply_counts(
+            "refine",
+            k,
+            &axes,
+            |g| (&mut g.cell_elements, "hexahedra per cell edge"),
+            |b| (&mut b.divisions, "hexahedra"),
+        )
     }
 
     /// Multiplies the number of substructures along `split_axes` by n. A granular scene has one
@@ -251,32 +231,48 @@ impl SceneSpec {
     /// message saying so. A product that does not fit a count is an error naming `split`.
     pub fn split(&mut self, n: usize) -> Result<()> {
         let axes = axes_of(&self.split_axes);
-        let too_large = |what: String| {
+        self.multiply_counts(
+            "split",
+            n,
+            &axes,
+            |g| (&mut g.requested_split, "as the requested split"),
+            |b| (&mut b.split, "substructures"),
+        )
+    }
+
+    /// Multiplies the granular count `cell` and each body's counts `body` along `axes` by
+    /// `factor`, all or nothing: a product that does not fit is an error naming `setting`.
+    fn multiply_counts(
+        &mut self,
+        setting: &str,
+        factor: usize,
+        axes: &[usize],
+        cell: fn(&mut GranularSpec) -> (&mut usize, &'static str),
+        body: fn(&mut BodySpec) -> (&mut [usize; 3], &'static str),
+    ) -> Result<()> {
+        let too_large = |count: usize, what: String| {
             LopinError::setting(
-                "split",
-                format!("{n} times {what} does not fit a 64-bit count"),
+                setting,
+                format!("{factor} times {count} {what} does not fit a 64-bit count"),
             )
         };
-        if let Some(g) = &self.granular {
-            g.requested_split
-                .checked_mul(n)
-                .ok_or_else(|| too_large("the requested split".into()))?;
+        let mut scaled = self.clone();
+        if let Some(g) = &mut scaled.granular {
+            let (count, what) = cell(g);
+            *count = count
+                .checked_mul(factor)
+                .ok_or_else(|| too_large(*count, what.into()))?;
         }
-        for b in &self.bodies {
-            for &a in &axes {
-                b.split[a].checked_mul(n).ok_or_else(|| {
-                    too_large(format!("{} substructures of body `{}`", b.split[a], b.name))
-                })?;
+        for b in &mut scaled.bodies {
+            let name = b.name.clone();
+            let (counts, what) = body(b);
+            for &a in axes {
+                counts[a] = counts[a]
+                    .checked_mul(factor)
+                    .ok_or_else(|| too_large(counts[a], format!("{what} of body `{name}`")))?;
             }
         }
-        if let Some(g) = &mut self.granular {
-            g.requested_split *= n;
-        }
-        for b in &mut self.bodies {
-            for &a in &axes {
-                b.split[a] *= n;
-            }
-        }
+        *self = scaled;
         Ok(())
     }
 

@@ -11,9 +11,10 @@
 
 use std::collections::HashMap;
 
+use crate::detect::model_diameter;
 use crate::error::{LopinError, Result};
 use crate::interface::{BoundaryDof, DofLaw};
-use crate::material::Material;
+use crate::material::{self, Material};
 use crate::scene::admission::{self, SolveShape};
 use crate::scene::build::face_of;
 use crate::scene::granular;
@@ -313,8 +314,6 @@ fn check_physics(spec: &SceneSpec, source: &str) -> Result<()> {
             })
     };
     let mut h_min = f64::INFINITY;
-    let mut lo = [f64::INFINITY; 3];
-    let mut hi = [f64::NEG_INFINITY; 3];
     for (i, b) in spec.bodies.iter().enumerate() {
         for a in 0..3 {
             for (field, x) in [("min", b.min[a]), ("max", b.max[a])] {
@@ -342,22 +341,21 @@ fn check_physics(spec: &SceneSpec, source: &str) -> Result<()> {
                 );
             }
             h_min = h_min.min(h);
-            lo[a] = lo[a].min(b.min[a]);
-            hi[a] = hi[a].max(b.max[a]);
         }
     }
-    let diameter = crate::mesh::norm(crate::mesh::sub(hi, lo));
+    let boxes: Vec<_> = spec.bodies.iter().map(|b| (b.min, b.max)).collect();
+    let diameter = model_diameter(&boxes);
     let used: Vec<Material> = spec
         .bodies
         .iter()
         .filter_map(|b| material(&b.material))
         .collect();
     let c_max = used.iter().map(Material::p_wave_speed).fold(0.0, f64::max);
-    let (c_min, slowest) = spec
-        .bodies
-        .iter()
-        .filter_map(|b| material(&b.material).map(|m| (m.bar_speed(), b.material.as_str())))
-        .fold((f64::INFINITY, ""), |a, b| if b.0 < a.0 { b } else { a });
+    let slowest = material::slowest(
+        spec.bodies
+            .iter()
+            .filter_map(|b| material(&b.material).map(|m| (m.bar_speed(), b.material.as_str()))),
+    );
     let transit = h_min / c_max;
     let courant = spec.time.dt / transit;
     if !in_range(courant, COURANT_RANGE) {
@@ -371,16 +369,10 @@ fn check_physics(spec: &SceneSpec, source: &str) -> Result<()> {
             ),
         );
     }
-    let too_fast = |v: f64| v.abs() > c_min;
-    let speed_reason = |v: f64| {
-        format!(
-            "{v:?} m/s is faster than the slowest wave speed of the model ({c_min:.4e} m/s in \
-             `{slowest}`): the strains would not be small"
-        )
-    };
     for (i, b) in spec.bodies.iter().enumerate() {
-        if let Some(&v) = b.velocity.iter().find(|v| too_fast(**v)) {
-            return err(format!("body[{i}].velocity"), speed_reason(v));
+        for &v in &b.velocity {
+            material::check_small_strain_speed(v, slowest)
+                .map_err(|r| LopinError::scene(source, format!("body[{i}].velocity"), r))?;
         }
     }
     for (i, bc) in spec.boundaries.iter().enumerate() {
@@ -392,8 +384,10 @@ fn check_physics(spec: &SceneSpec, source: &str) -> Result<()> {
             .map_or(f64::INFINITY, |m| m.young);
         for (axis, c) in [("x", &bc.x), ("y", &bc.y), ("z", &bc.z)] {
             let Some(c) = c else { continue };
-            if let Some(v) = c.velocity.filter(|v| too_fast(*v)) {
-                return err(format!("boundary[{i}].{axis}.velocity"), speed_reason(v));
+            if let Some(v) = c.velocity {
+                material::check_small_strain_speed(v, slowest).map_err(|r| {
+                    LopinError::scene(source, format!("boundary[{i}].{axis}.velocity"), r)
+                })?;
             }
             if let Some(t) = c.traction.filter(|t| t.abs() > young) {
                 return err(

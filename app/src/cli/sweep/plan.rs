@@ -1,11 +1,13 @@
 //! The options of `lopin sweep` checked into a plan: the parameter and its values (`--param`,
-//! parsed by clap through [`parse_param`]), the predictor (a clap `ValueEnum` mapped onto the
+//! parsed by clap through [`parse_param`], each checked against the problem before anything is
+//! written), the predictor (a clap `ValueEnum` mapped onto the
 //! core's [`Predictor`]), the mode (warm, cold, compare-cold), the solver settings it runs with,
 //! the sweep header a resume must match (with the fingerprints of the resolved scene and of the
 //! settings, so an edited scene file or other settings are seen) and the directory.
 
 use std::path::PathBuf;
 
+use anyhow::Context;
 use lopin_core::sweep::{parse_values, Predictor};
 use lopin_core::Parameter;
 
@@ -88,6 +90,12 @@ impl Plan {
     /// The plan of `args` on a prepared solver, whose settings it sets (`--no-skip`).
     pub fn new(args: &SweepArgs, prepared: &mut Prepared) -> anyhow::Result<Plan> {
         let ParamValues { parameter, values } = args.param.clone();
+        // every value is checked against the problem before the sweep folder is made
+        for &v in &values {
+            parameter
+                .check_for(prepared.solver.problem(), v)
+                .with_context(|| format!("--param {} = {v:?}", parameter.name()))?;
+        }
         let predictor = Predictor::from(args.predictor);
         let solver = &mut prepared.solver;
         let mut settings = *solver.settings();
