@@ -59,6 +59,7 @@ pub mod substructure;
 #[cfg(feature = "latin")]
 pub mod sweep;
 pub mod time_function;
+pub mod time_scheme;
 
 pub use error::{LopinError, Result};
 pub use parameter::Parameter;

@@ -1,7 +1,8 @@
-//! Linear stage (E−) of one substructure: the trapezoidal march of METHOD §2 driven by the
-//! local-stage fields through the search direction F − F̂ = −k (W − Ŵ) (METHOD §3–§4):
+//! Linear stage (E−) of one substructure: the march of METHOD §2 (the trapezoidal rule, or its
+//! dissipative Bossak–Newmark extension with the coefficients of [`crate::time_scheme`]) driven by
+//! the local-stage fields through the search direction F − F̂ = −k (W − Ŵ) (METHOD §3–§4):
 //!
-//!   S v_m = r_m + Bᵀ A (F̂_m + k Ŵ_m),  r_m = M(2/Δt v + a) − K(u + Δt/2 v),
+//!   S v_m = r_m + Bᵀ A (F̂_m + k Ŵ_m),  r_m = M(c_M v + c_A a) − K(u + d_V v + d_A a),
 //!   W_m = B v_m,  F_m = F̂_m + k (Ŵ_m − W_m),
 //!
 //! with the sums of the error indicator η (METHOD §6, [`crate::indicator`]) accumulated on the way. A step is a
@@ -9,8 +10,10 @@
 //! (METHOD §9) solves its macro problem and passes the correction v_m = v¹ + k Z_E α_E.
 //!
 //! No product with K is needed in the march: the solve itself gives
-//! (Δt/2) K v_m = rhs_m − (2/Δt) M v_m − k Bᵀ A B v_m, and K u_m = K u_{m−1} + (Δt/2) K (v_{m−1} + v_m),
-//! so K(u + Δt/2 v) is carried from step to step at O(n) cost (only the triangular solves
+//! c_K K v_m = rhs_m − c_M M v_m − k Bᵀ A B v_m, and
+//! K u_m = K u_{m−1} + d_V K v_{m−1} + d_A K a_{m−1} + c_K K v_m (trapezoidal:
+//! (Δt/2) K (v_{m−1} + v_m)), K a_m = e_V K (v_m − v_{m−1}) − e_A K a_{m−1},
+//! so K(u + d_V v + d_A a) is carried from step to step at O(n) cost (only the triangular solves
 //! remain per step; METHOD §11 cost model).
 
 use crate::factor::{CholeskyFactor, SolveScratch};
@@ -18,6 +21,7 @@ use crate::indicator::IndicatorSums;
 use crate::interface::Interface;
 use crate::state::TraceHistory;
 use crate::substructure::Substructure;
+use crate::time_scheme::StepCoefficients;
 
 /// Kinematic state (u, v, a) of a substructure at one step.
 #[derive(Debug, Clone, PartialEq)]
@@ -30,25 +34,32 @@ pub struct SubState {
     pub a: Vec<f64>,
     /// K u (carried, see the module doc).
     pub ku: Vec<f64>,
-    /// (Δt/2) K v (carried).
-    pub half_dt_kv: Vec<f64>,
+    /// c_K K v (carried; (Δt/2) K v for the trapezoidal rule).
+    pub ckv: Vec<f64>,
+    /// K a (carried for a dissipative scheme; empty for the trapezoidal rule, which needs none).
+    pub ka: Vec<f64>,
 }
 
 impl SubState {
     /// The initial state: u₀ = 0, v₀ given, a₀ = M⁻¹(f_ext,0 − K u₀) = 0 (no interface force at
     /// t₀, no body load).
-    pub fn initial(sub: &Substructure, dt: f64) -> Self {
+    pub fn initial(sub: &Substructure, time: &StepCoefficients) -> Self {
         let n = sub.ndof();
         let v = sub.initial_velocity_field();
-        let mut half_dt_kv = vec![0.0; n];
-        sub.stiffness.mul_into(&v, &mut half_dt_kv);
-        half_dt_kv.iter_mut().for_each(|x| *x *= 0.5 * dt);
+        let mut ckv = vec![0.0; n];
+        sub.stiffness.mul_into(&v, &mut ckv);
+        ckv.iter_mut().for_each(|x| *x *= time.stiffness);
         Self {
             u: vec![0.0; n],
             v,
             a: vec![0.0; n],
             ku: vec![0.0; n],
-            half_dt_kv,
+            ckv,
+            ka: if time.trapezoidal {
+                Vec::new()
+            } else {
+                vec![0.0; n]
+            },
         }
     }
 }
@@ -65,8 +76,8 @@ pub struct LinearWork {
     /// v¹ after it, then v_m after [`complete`] applies the macro correction.
     rhs_then_v: Vec<f64>,
     /// A copy of the right-hand side of step m (plus the macro load), reduced by [`complete`] to
-    /// (Δt/2) K v_m, which the next step's right-hand side needs (see the module doc).
-    rhs_then_half_dt_kv: Vec<f64>,
+    /// c_K K v_m, which the next step's right-hand side needs (see the module doc).
+    rhs_then_ckv: Vec<f64>,
     /// F̂ gathered into trace layout for the current step.
     pub fhat: Vec<f64>,
     /// Ŵ gathered into trace layout for the current step.
@@ -76,12 +87,12 @@ pub struct LinearWork {
 
 impl LinearWork {
     /// Buffers sized for `sub`.
-    pub fn new(sub: &Substructure, factor: &CholeskyFactor, dt: f64) -> Self {
+    pub fn new(sub: &Substructure, factor: &CholeskyFactor, time: &StepCoefficients) -> Self {
         let n = sub.ndof();
         Self {
-            state: SubState::initial(sub, dt),
+            state: SubState::initial(sub, time),
             rhs_then_v: vec![0.0; n],
-            rhs_then_half_dt_kv: vec![0.0; n],
+            rhs_then_ckv: vec![0.0; n],
             fhat: vec![0.0; sub.trace_len()],
             what: vec![0.0; sub.trace_len()],
             scratch: factor.scratch(),
@@ -114,8 +125,8 @@ pub struct LinearInput<'a> {
     pub hats: &'a [Vec<TraceHistory>],
     /// Search direction k (S was factorized with it).
     pub k: f64,
-    /// Time step.
-    pub dt: f64,
+    /// The time step and the scheme's coefficients (S was factorized with them).
+    pub time: StepCoefficients,
     /// Steps m0..=m1.
     pub steps: (usize, usize),
 }
@@ -153,20 +164,28 @@ pub fn predict(
     input: &LinearInput<'_>,
     m: usize,
 ) {
-    let (k, dt) = (input.k, input.dt);
+    let (k, c) = (input.k, &input.time);
     work.gather_hat(sub, input.interfaces, input.hats, m);
     let LinearWork {
         state,
-        rhs_then_half_dt_kv: y,
+        rhs_then_ckv: y,
         rhs_then_v: rhs,
         fhat,
         what,
         scratch,
     } = work;
-    // r_m = M(2/Δt v + a) − K(u + Δt/2 v) + Bᵀ A (F̂ + k Ŵ)
-    for i in 0..rhs.len() {
-        rhs[i] = sub.mass[i] * (2.0 / dt * state.v[i] + state.a[i])
-            - (state.ku[i] + state.half_dt_kv[i]);
+    // r_m = M(c_M v + c_A a) − K(u + d_V v + d_A a) + Bᵀ A (F̂ + k Ŵ)
+    if c.trapezoidal {
+        for i in 0..rhs.len() {
+            rhs[i] =
+                sub.mass[i] * (c.mass * state.v[i] + state.a[i]) - (state.ku[i] + state.ckv[i]);
+        }
+    } else {
+        let ratio = c.u_from_v / c.stiffness;
+        for i in 0..rhs.len() {
+            rhs[i] = sub.mass[i] * (c.mass * state.v[i] + c.mass_a * state.a[i])
+                - (state.ku[i] + ratio * state.ckv[i] + c.u_from_a * state.ka[i]);
+        }
     }
     for (j, &d) in sub.trace_dofs.iter().enumerate() {
         rhs[d] += sub.trace_area[j] * (fhat[j] + k * what[j]);
@@ -205,10 +224,10 @@ pub fn complete(
     out: &mut TraceHistory,
     correction: Option<Correction<'_>>,
 ) -> IndicatorSums {
-    let (k, dt) = (input.k, input.dt);
+    let (k, c) = (input.k, &input.time);
     let LinearWork {
         state,
-        rhs_then_half_dt_kv: y,
+        rhs_then_ckv: y,
         rhs_then_v: rhs,
         fhat,
         what,
@@ -228,9 +247,9 @@ pub fn complete(
         }
     }
     let mut sums = IndicatorSums::default();
-    // rhs now holds v_m; y becomes (Δt/2) K v_m = rhs_m − 2/Δt M v_m − k BᵀAB v_m
+    // rhs now holds v_m; y becomes c_K K v_m = rhs_m − c_M M v_m − k BᵀAB v_m
     for i in 0..n {
-        y[i] -= 2.0 / dt * sub.mass[i] * rhs[i];
+        y[i] -= c.mass * sub.mass[i] * rhs[i];
     }
     let r = out.at(m);
     for (j, &d) in sub.trace_dofs.iter().enumerate() {
@@ -243,14 +262,22 @@ pub fn complete(
         out.f[r.start + j] = f;
         sums.add_dof(a, k, (f, w), (fhat[j], what[j]));
     }
+    // K u_m = K u + d_V K v + d_A K a + c_K K v_m; K a_m = e_V K (v_m − v) − e_A K a (carried
+    // only for a dissipative scheme; the trapezoidal rule keeps its formulas as written)
+    let (ratio, dk) = (c.u_from_v / c.stiffness, c.a_from_dv / c.stiffness);
     for i in 0..n {
         let v_new = rhs[i];
-        let a_new = 2.0 / dt * (v_new - state.v[i]) - state.a[i];
-        state.u[i] += 0.5 * dt * (state.v[i] + v_new);
+        let (u_new, a_new) = c.advance(state.u[i], state.v[i], state.a[i], v_new);
+        state.u[i] = u_new;
         state.v[i] = v_new;
         state.a[i] = a_new;
-        state.ku[i] += state.half_dt_kv[i] + y[i];
-        state.half_dt_kv[i] = y[i];
+        if c.trapezoidal {
+            state.ku[i] += state.ckv[i] + y[i];
+        } else {
+            state.ku[i] += ratio * state.ckv[i] + c.u_from_a * state.ka[i] + y[i];
+            state.ka[i] = dk * (y[i] - state.ckv[i]) - c.a_from_a * state.ka[i];
+        }
+        state.ckv[i] = y[i];
     }
     sums
 }
@@ -297,23 +324,33 @@ mod tests {
     }
 
     /// Three steps of the linear stage of the `bar` scene's first substructure (60 dofs, a
-    /// boundary and a perfect interface on its trace) driven by random ŝ, against a dense
-    /// trapezoidal solve of the same steps: S v_m = M(2/Δt v + a) − K(u + Δt/2 v) + Bᵀ A (F̂ + k Ŵ)
-    /// with S = 2/Δt M + Δt/2 K + k Bᵀ A B formed densely and solved by Gaussian elimination
-    /// (METHOD §2, §4). Also checks the discrete equation of motion M a + K u = Bᵀ A F, the
-    /// search direction F − F̂ = −k (W − Ŵ) and the carried K u (module doc) at every step.
+    /// boundary and a perfect interface on its trace) driven by random ŝ, against a dense solve
+    /// of the same steps: S v_m = M(c_M v + c_A a) − K(u + d_V v + d_A a) + Bᵀ A (F̂ + k Ŵ) with
+    /// S = c_M M + c_K K + k Bᵀ A B formed densely and solved by Gaussian elimination (METHOD §2,
+    /// §4), for the trapezoidal rule and the dissipative scheme (ρ∞ = 0.7). Also checks the
+    /// discrete equation of motion M [(1 − α_m) a_m + α_m a_{m−1}] + K u_m = Bᵀ A F_m, the search
+    /// direction F − F̂ = −k (W − Ŵ), the carried K u (module doc) and the Newmark kinematics at
+    /// every step.
     #[test]
-    fn linear_stage_matches_a_dense_trapezoidal_solve() {
+    fn linear_stage_matches_a_dense_solve() {
+        for rho in [1.0, 0.7] {
+            dense_check(crate::time_scheme::TimeScheme::new(rho));
+        }
+    }
+
+    fn dense_check(scheme: crate::time_scheme::TimeScheme) {
         let spec = scene::load("bar").expect("scene");
         let problem = scene::build::build(&spec, "bar").expect("build");
         let sub = &problem.subs[0];
         let (n, dt, k) = (sub.ndof(), problem.time.dt, problem.default_k());
+        let c = scheme.coefficients(dt);
+        let (alpha_m, gamma, _) = scheme.parameters();
         assert_eq!(n, 60);
         assert!(
             sub.sides.len() >= 2,
             "a boundary and an interface on the trace"
         );
-        let factor = CholeskyFactor::new(n, &sub.operator_triplets(dt, k)).expect("factor");
+        let factor = CholeskyFactor::new(n, &sub.operator_triplets(&c, k)).expect("factor");
         let steps = 3;
         let mut seed = 7;
         let scale_f = 1e6;
@@ -336,18 +373,18 @@ mod tests {
             interfaces: &problem.interfaces,
             hats: &hats,
             k,
-            dt,
+            time: c,
             steps: (1, steps),
         };
-        let mut work = LinearWork::new(sub, &factor, dt);
+        let mut work = LinearWork::new(sub, &factor, &c);
         // a non-trivial start: the initial velocity field plus noise in u and v
         let start = {
-            let mut s = SubState::initial(sub, dt);
+            let mut s = SubState::initial(sub, &c);
             s.u.iter_mut().for_each(|x| *x = 1e-6 * noise(&mut seed));
             s.v.iter_mut().for_each(|x| *x += noise(&mut seed));
             sub.stiffness.mul_into(&s.u, &mut s.ku);
-            sub.stiffness.mul_into(&s.v, &mut s.half_dt_kv);
-            s.half_dt_kv.iter_mut().for_each(|x| *x *= 0.5 * dt);
+            sub.stiffness.mul_into(&s.v, &mut s.ckv);
+            s.ckv.iter_mut().for_each(|x| *x *= c.stiffness);
             s
         };
         work.state = start.clone();
@@ -373,9 +410,9 @@ mod tests {
                 kd[i * n + j] = col[i];
             }
         }
-        let mut sd: Vec<f64> = kd.iter().map(|x| 0.5 * dt * x).collect();
+        let mut sd: Vec<f64> = kd.iter().map(|x| c.stiffness * x).collect();
         for i in 0..n {
-            sd[i * n + i] += 2.0 / dt * sub.mass[i];
+            sd[i * n + i] += c.mass * sub.mass[i];
         }
         for (j, &d) in sub.trace_dofs.iter().enumerate() {
             sd[d * n + d] += k * sub.trace_area[j];
@@ -394,7 +431,7 @@ mod tests {
             d / b.iter().map(|x| x.abs()).fold(f64::MIN_POSITIVE, f64::max)
         };
         let mut prev = start;
-        let mut ghat = LinearWork::new(sub, &factor, dt);
+        let mut ghat = LinearWork::new(sub, &factor, &c);
         for m in 1..=steps {
             ghat.gather_hat(sub, &problem.interfaces, &hats, m);
             let (fhat, what) = (&ghat.fhat, &ghat.what);
@@ -402,11 +439,12 @@ mod tests {
                 .u
                 .iter()
                 .zip(&prev.v)
-                .map(|(u, v)| u + 0.5 * dt * v)
+                .zip(&prev.a)
+                .map(|((u, v), a)| u + c.u_from_v * v + c.u_from_a * a)
                 .collect();
             let kpre = kmul(&kpre);
             let mut rhs: Vec<f64> = (0..n)
-                .map(|i| sub.mass[i] * (2.0 / dt * prev.v[i] + prev.a[i]) - kpre[i])
+                .map(|i| sub.mass[i] * (c.mass * prev.v[i] + c.mass_a * prev.a[i]) - kpre[i])
                 .collect();
             for (j, &d) in sub.trace_dofs.iter().enumerate() {
                 rhs[d] += sub.trace_area[j] * (fhat[j] + k * what[j]);
@@ -432,16 +470,22 @@ mod tests {
             for (j, &d) in sub.trace_dofs.iter().enumerate() {
                 force[d] += sub.trace_area[j] * out.f[r.start + j];
             }
-            let lhs: Vec<f64> = (0..n).map(|i| sub.mass[i] * st.a[i] + ku[i]).collect();
+            let lhs: Vec<f64> = (0..n)
+                .map(|i| sub.mass[i] * ((1.0 - alpha_m) * st.a[i] + alpha_m * prev.a[i]) + ku[i])
+                .collect();
             assert!(
                 rel(&lhs, &force) < 1e-9,
                 "step {m}: motion {}",
                 rel(&lhs, &force)
             );
-            // trapezoidal kinematics
+            // Newmark kinematics (trapezoidal for ρ∞ = 1)
+            let beta = scheme.parameters().2;
             for i in 0..n {
-                let du = prev.u[i] + 0.5 * dt * (prev.v[i] + st.v[i]) - st.u[i];
-                let dv = prev.v[i] + 0.5 * dt * (prev.a[i] + st.a[i]) - st.v[i];
+                let du = prev.u[i]
+                    + dt * prev.v[i]
+                    + dt * dt * ((0.5 - beta) * prev.a[i] + beta * st.a[i])
+                    - st.u[i];
+                let dv = prev.v[i] + dt * ((1.0 - gamma) * prev.a[i] + gamma * st.a[i]) - st.v[i];
                 assert!(du.abs() <= 1e-12 * st.u[i].abs().max(1e-9));
                 assert!(dv.abs() <= 1e-10 * st.v[i].abs().max(1.0));
             }

@@ -6,21 +6,25 @@ use crate::interface::{Contact, DofLaw, Interface, Law};
 use crate::mesh::{dot, Vec3};
 use crate::state::{InterfaceState, TraceHistory};
 use crate::time_function::TimeGrid;
+use crate::time_scheme::StepCoefficients;
 
-/// Running contact state carried from step to step: gap ĝ and normal jump [Ŵ_n] per node.
+/// Running contact state carried from step to step: gap ĝ, normal jump [Ŵ_n] and, for a
+/// dissipative scheme, the normal acceleration jump its displacement update needs, per node.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ContactRunning {
     /// ĝ per node.
     pub gap: Vec<f64>,
     /// [Ŵ_n] per node.
     pub normal_jump: Vec<f64>,
+    /// [â_n] per node (zero at t₀: no interface force, no body load).
+    pub normal_accel: Vec<f64>,
 }
 
 impl ContactRunning {
     /// The state at t₀: ĝ₀ = g0, [Ŵ_n]₀ = n·(W₂ − W₁) from the initial velocities.
     pub fn initial(iface: &Interface, contact: &Contact, s: &InterfaceState) -> Self {
         let (w1, w2) = side_values(iface, s, 0);
-        let normal_jump = contact
+        let normal_jump: Vec<f64> = contact
             .normal
             .iter()
             .enumerate()
@@ -28,6 +32,7 @@ impl ContactRunning {
             .collect();
         Self {
             gap: contact.gap.clone(),
+            normal_accel: vec![0.0; normal_jump.len()],
             normal_jump,
         }
     }
@@ -41,6 +46,8 @@ pub struct LocalInput<'a> {
     pub k: f64,
     /// Time grid.
     pub time: TimeGrid,
+    /// The scheme's step coefficients (the gap update of contact).
+    pub step: StepCoefficients,
     /// Steps m0..=m1 to treat.
     pub steps: (usize, usize),
 }
@@ -100,7 +107,7 @@ pub fn local_stage(
             let mut run = start
                 .cloned()
                 .unwrap_or_else(|| ContactRunning::initial(iface, c, input.s));
-            let dt = input.time.dt;
+            let c_step = &input.step;
             for m in m0..=m1 {
                 let (a, b) = side_values(iface, input.s, m);
                 let r = hat[0].at(m);
@@ -114,9 +121,11 @@ pub fn local_stage(
                         ft[q] = 0.5 * (f1[q] - f2[q]) + 0.5 * k * (w2[q] - w1[q]);
                         sigma[q] = w1[q] + w2[q] - (f1[q] + f2[q]) / k;
                     }
-                    let (fh1, jump, jn) =
-                        contact_node(ft, n, c.friction, run.gap[i], run.normal_jump[i], k, dt);
-                    run.gap[i] += 0.5 * dt * (run.normal_jump[i] + jn);
+                    let (gap, jn_prev, an_prev) =
+                        (run.gap[i], run.normal_jump[i], run.normal_accel[i]);
+                    let v_star = c_step.closing_velocity(gap, jn_prev, an_prev);
+                    let (fh1, jump, jn) = contact_node(ft, n, c.friction, v_star, k);
+                    (run.gap[i], run.normal_accel[i]) = c_step.advance(gap, jn_prev, an_prev, jn);
                     run.normal_jump[i] = jn;
                     for q in 0..3 {
                         let p = r.start + 3 * i + q;
@@ -132,18 +141,10 @@ pub fn local_stage(
     }
 }
 
-/// The contact closed form of METHOD §5 for one node and step: returns (F̂₁, [Ŵ], [Ŵ_n]).
-pub fn contact_node(
-    ft: Vec3,
-    n: Vec3,
-    friction: f64,
-    gap_prev: f64,
-    jn_prev: f64,
-    k: f64,
-    dt: f64,
-) -> (Vec3, Vec3, f64) {
+/// The contact closed form of METHOD §5 for one node and step, given V* (the normal velocity
+/// jump that closes the gap, [`StepCoefficients::closing_velocity`]): returns (F̂₁, [Ŵ], [Ŵ_n]).
+pub fn contact_node(ft: Vec3, n: Vec3, friction: f64, v_star: f64, k: f64) -> (Vec3, Vec3, f64) {
     let ftn = dot(ft, n);
-    let v_star = -2.0 * gap_prev / dt - jn_prev;
     let v_lim = v_star.min(0.0);
     let p = (0.5 * k * v_lim - ftn).max(0.0);
     let jn = 2.0 / k * (ftn + p);
@@ -194,10 +195,30 @@ mod tests {
 
     const N: Vec3 = [0.0, 0.0, 1.0];
 
+    /// V* of the trapezoidal rule with Δt = 1e-3.
+    fn v_star(gap: f64, jn: f64) -> f64 {
+        crate::time_scheme::TimeScheme::TRAPEZOIDAL
+            .coefficients(1e-3)
+            .closing_velocity(gap, jn, 0.0)
+    }
+
+    /// With dissipation (ρ∞ = 0.5), a gap closed at V* leaves the Newmark gap update at zero:
+    /// g_m = g + d_V [W_n]_{m−1} + d_A [a_n]_{m−1} + c_K V* = 0 to 1e-15.
+    #[test]
+    fn closing_velocity_closes_the_gap_of_a_dissipative_scheme() {
+        let c = crate::time_scheme::TimeScheme::new(0.5).coefficients(1e-3);
+        let (gap, jn, an) = (1e-3, -0.7, 30.0);
+        let v = c.closing_velocity(gap, jn, an);
+        let (g, _) = c.advance(gap, jn, an, v);
+        assert!(g.abs() < 1e-15, "{g}");
+        let (_, _, jn_new) = contact_node([0.0, 0.0, -10.0], N, 0.0, v.min(0.0), 2.0);
+        assert!(c.advance(gap, jn, an, jn_new).0 >= -1e-15);
+    }
+
     #[test]
     fn separation_gives_zero_force() {
         // pulling apart (F̃_n > 0) with an open gap: p = 0, F̂ = 0
-        let (f, jump, jn) = contact_node([0.3, 0.0, 2.0], N, 0.5, 1e-3, 0.0, 2.0, 1e-3);
+        let (f, jump, jn) = contact_node([0.3, 0.0, 2.0], N, 0.5, v_star(1e-3, 0.0), 2.0);
         assert_eq!(f, [0.0; 3]);
         assert!((jn - 2.0).abs() < 1e-15 && (jump[0] - 0.3).abs() < 1e-15);
     }
@@ -205,11 +226,11 @@ mod tests {
     #[test]
     fn closed_contact_sticks_then_slips_on_the_coulomb_cone() {
         // pushing together from a closed gap: V* = 0, p = −F̃_n
-        let (f, jump, jn) = contact_node([0.1, 0.0, -1.0], N, 0.5, 0.0, 0.0, 2.0, 1e-3);
+        let (f, jump, jn) = contact_node([0.1, 0.0, -1.0], N, 0.5, v_star(0.0, 0.0), 2.0);
         assert!((f[2] + 1.0).abs() < 1e-15 && (f[0] - 0.1).abs() < 1e-15 && jn == 0.0);
         assert_eq!(jump, [0.0; 3]);
         // |F̃_t| = 0.8 > f p = 0.5: slip, |F̂_t| = f p, jump along F̃_t
-        let (f, jump, _) = contact_node([0.8, 0.0, -1.0], N, 0.5, 0.0, 0.0, 2.0, 1e-3);
+        let (f, jump, _) = contact_node([0.8, 0.0, -1.0], N, 0.5, v_star(0.0, 0.0), 2.0);
         assert!((f[0] - 0.5).abs() < 1e-15);
         assert!((jump[0] - 2.0 / 2.0 * 0.3).abs() < 1e-15);
     }
@@ -217,10 +238,10 @@ mod tests {
     #[test]
     fn approaching_gap_is_closed_exactly_by_the_persistent_law() {
         // gap 1e-3 closing at relative speed −3 over dt = 1e-3: V* = −2 + 3 = 1 > 0 → V_lim = 0
-        let (_, _, jn) = contact_node([0.0, 0.0, -10.0], N, 0.0, 1e-3, -3.0, 2.0, 1e-3);
+        let (_, _, jn) = contact_node([0.0, 0.0, -10.0], N, 0.0, v_star(1e-3, -3.0), 2.0);
         assert!(jn >= 0.0);
         // gap 1e-3 with no relative speed: V* = −2: the gap may close but not more
-        let (_, _, jn) = contact_node([0.0, 0.0, -10.0], N, 0.0, 1e-3, 0.0, 2.0, 1e-3);
+        let (_, _, jn) = contact_node([0.0, 0.0, -10.0], N, 0.0, v_star(1e-3, 0.0), 2.0);
         assert!((jn + 2.0).abs() < 1e-12);
         let gap = 1e-3 + 0.5 * 1e-3 * (0.0 + jn);
         assert!(gap.abs() < 1e-15);

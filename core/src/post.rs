@@ -1,6 +1,9 @@
 //! Post-processing, computed only when asked: the fields of a converged solution come from one
 //! more linear stage driven by ŝ (METHOD §6 "at convergence"), replayed per substructure up to the
-//! step wanted. Energies use the exact discrete identity of METHOD §2; interface forces are
+//! step wanted. Energies use the exact discrete identity of METHOD §2: the work of the boundary
+//! forces is ((1 − γ) F_{m−1} + γ F_m)·(u_m − u_{m−1}) (½ (F_m + F_{m−1})·Δt/2 (W_m + W_{m−1})
+//! for the trapezoidal rule, γ = ½); with a dissipative scheme E_m − E_0 − W_m is minus the
+//! energy the scheme removed, never positive ([`crate::time_scheme`]); interface forces are
 //! reported as step averages (F_m + F_{m−1})/2 (METHOD §2, §10 "force ringing").
 
 use crate::counters::Instant;
@@ -27,7 +30,7 @@ pub fn replay(
     let p = solver.problem();
     let sub = &p.subs[i];
     let factor = solver.factor(i);
-    let mut work = LinearWork::new(sub, factor, p.time.dt);
+    let mut work = LinearWork::new(sub, factor, &p.step_coefficients());
     let mut out = TraceHistory::zeros(sub.trace_len(), p.time.steps);
     let h0 = &sol.state.subs[i];
     visit(0, &work.state, &h0.f[h0.at(0)], &h0.w[h0.at(0)]);
@@ -39,7 +42,7 @@ pub fn replay(
         interfaces: &p.interfaces,
         hats: &sol.hats,
         k: solver.settings().k,
-        dt: p.time.dt,
+        time: p.step_coefficients(),
         steps: (1, until),
     };
     linear_stage(sub, factor, &mut work, &input, &mut out, Some(visit));
@@ -141,6 +144,8 @@ pub fn energy(solver: &Solver, sol: &Solution) -> EnergyHistory {
     let p = solver.problem();
     let n = p.time.steps;
     let dt = p.time.dt;
+    let trapezoidal = p.scheme.is_trapezoidal();
+    let gamma = p.scheme.parameters().1;
     let per_sub = par::map_range(p.subs.len(), |i| {
         let sub = &p.subs[i];
         // boundary trace ranges of this substructure
@@ -158,6 +163,7 @@ pub fn energy(solver: &Solver, sol: &Solution) -> EnergyHistory {
         let mut work = vec![0.0; n + 1];
         let mut prev_f = vec![0.0; sub.trace_len()];
         let mut prev_w = vec![0.0; sub.trace_len()];
+        let mut prev_u = vec![0.0; sub.trace_len()];
         replay(solver, sol, i, n, &mut |m, st, f, w| {
             kin[m] = 0.5
                 * st.v
@@ -170,18 +176,25 @@ pub fn energy(solver: &Solver, sol: &Solution) -> EnergyHistory {
                 let mut dw = 0.0;
                 for r in &ranges {
                     for j in r.clone() {
-                        dw += sub.trace_area[j]
-                            * 0.5
-                            * (f[j] + prev_f[j])
-                            * 0.5
-                            * dt
-                            * (w[j] + prev_w[j]);
+                        // u_m − u_{m−1} of the trace dof: Δt/2 (W_m + W_{m−1}) for the
+                        // trapezoidal rule, the Newmark update otherwise
+                        let du = if trapezoidal {
+                            0.5 * dt * (w[j] + prev_w[j])
+                        } else {
+                            st.u[sub.trace_dofs[j]] - prev_u[j]
+                        };
+                        dw += sub.trace_area[j] * (gamma * f[j] + (1.0 - gamma) * prev_f[j]) * du;
                     }
                 }
                 work[m] = work[m - 1] + dw;
             }
             prev_f.copy_from_slice(f);
             prev_w.copy_from_slice(w);
+            if !trapezoidal {
+                for (j, &d) in sub.trace_dofs.iter().enumerate() {
+                    prev_u[j] = st.u[d];
+                }
+            }
         });
         (kin, strain, work)
     });
@@ -206,6 +219,7 @@ pub fn contact(solver: &Solver, sol: &Solution) -> Vec<ContactHistory> {
     let t = Instant::now();
     let p = solver.problem();
     let (n, dt) = (p.time.steps, p.time.dt);
+    let step = p.step_coefficients();
     let out = p
         .interfaces
         .iter()
@@ -225,6 +239,8 @@ pub fn contact(solver: &Solver, sol: &Solution) -> Vec<ContactHistory> {
             };
             let mut slip_vec = vec![[0.0; 3]; nn];
             let mut prev_jump = vec![[0.0; 3]; nn];
+            // acceleration jump of the scheme's displacement update (unused when trapezoidal)
+            let mut prev_accel = vec![[0.0; 3]; nn];
             for m in 0..=n {
                 let r = h1.at(m);
                 let mut force = 0.0;
@@ -245,11 +261,25 @@ pub fn contact(solver: &Solver, sol: &Solution) -> Vec<ContactHistory> {
                     } else {
                         let jn = dot(jump, nrm);
                         let jn_prev = dot(prev_jump[i], nrm);
-                        h.gap[m][i] = h.gap[m - 1][i] + 0.5 * dt * (jn + jn_prev);
-                        for q in 0..3 {
-                            let t_now = jump[q] - jn * nrm[q];
-                            let t_prev = prev_jump[i][q] - jn_prev * nrm[q];
-                            slip_vec[i][q] += 0.5 * dt * (t_now + t_prev);
+                        if step.trapezoidal {
+                            h.gap[m][i] = h.gap[m - 1][i] + 0.5 * dt * (jn + jn_prev);
+                            for q in 0..3 {
+                                let t_now = jump[q] - jn * nrm[q];
+                                let t_prev = prev_jump[i][q] - jn_prev * nrm[q];
+                                slip_vec[i][q] += 0.5 * dt * (t_now + t_prev);
+                            }
+                        } else {
+                            // the displacement jump of the scheme's update
+                            let mut du = [0.0; 3];
+                            for q in 0..3 {
+                                (du[q], prev_accel[i][q]) =
+                                    step.advance(0.0, prev_jump[i][q], prev_accel[i][q], jump[q]);
+                            }
+                            let dn = dot(du, nrm);
+                            h.gap[m][i] = h.gap[m - 1][i] + dn;
+                            for q in 0..3 {
+                                slip_vec[i][q] += du[q] - dn * nrm[q];
+                            }
                         }
                         h.slip[m][i] = dot(slip_vec[i], slip_vec[i]).sqrt();
                     }

@@ -6,6 +6,7 @@ use crate::interface::{BoundaryDof, Interface, Law};
 use crate::material::Material;
 use crate::substructure::Substructure;
 use crate::time_function::TimeGrid;
+use crate::time_scheme::{StepCoefficients, TimeScheme};
 
 /// A material of the scene, with the name its bodies refer to it by.
 #[derive(Debug, Clone, PartialEq)]
@@ -29,12 +30,19 @@ pub struct Problem {
     pub interfaces: Vec<Interface>,
     /// Time grid.
     pub time: TimeGrid,
+    /// Time-integration scheme of every substructure (METHOD §2; ρ∞ = 1: trapezoidal).
+    pub scheme: TimeScheme,
     /// Sign of every boundary dof's prescribed velocity as built (per interface, per dof), so
     /// that the amplitude can be swept through zero.
     pub velocity_signs: Vec<Vec<f64>>,
 }
 
 impl Problem {
+    /// The coefficients of one step of the scheme on the time grid.
+    pub fn step_coefficients(&self) -> StepCoefficients {
+        self.scheme.coefficients(self.time.dt)
+    }
+
     /// Total number of dofs.
     pub fn dof_count(&self) -> usize {
         self.subs.iter().map(Substructure::ndof).sum()

@@ -60,7 +60,8 @@ pub struct Solver {
 }
 
 impl Solver {
-    /// Assembles and factorizes S = 2/Δt M + Δt/2 K + k Bᵀ A B once per class of identical
+    /// Assembles and factorizes S = c_M M + c_K K + k Bᵀ A B (2/Δt M + Δt/2 K + k Bᵀ A B for the
+    /// trapezoidal rule, [`crate::time_scheme`]) once per class of identical
     /// substructures ([`crate::operator_classes`]), and the macro problem if the settings ask
     /// for the two-scale linear stage.
     pub fn new(problem: Problem, settings: Settings) -> Result<Self> {
@@ -115,6 +116,39 @@ impl Solver {
         }
         self.set_scale(settings.two_scale, settings.k)?;
         self.settings = settings;
+        self.counters.setup_s += start.elapsed().as_secs_f64();
+        Ok(())
+    }
+
+    /// Changes the time scheme of the problem (METHOD §2, [`crate::time_scheme`]): S changes, so
+    /// every class is refactorized and the macro problem rebuilt if the two-scale stage runs. A
+    /// warm start from a state of another scheme is legitimate (it is only a start). On an error
+    /// the solver keeps its previous scheme.
+    pub fn set_scheme(&mut self, scheme: crate::time_scheme::TimeScheme) -> Result<()> {
+        scheme
+            .check()
+            .map_err(|reason| LopinError::setting("rho_inf", reason))?;
+        if scheme == self.problem.scheme {
+            return Ok(());
+        }
+        let start = Instant::now();
+        let previous = self.problem.scheme;
+        self.problem.scheme = scheme;
+        let factors = match factorize(&self.problem, &self.classes, self.settings.k) {
+            Ok(f) => f,
+            Err(e) => {
+                self.problem.scheme = previous;
+                return Err(e);
+            }
+        };
+        self.factors = factors;
+        let works = make_works(&self.problem, &self.classes, &self.factors);
+        self.linear = LinearStage::SingleScale(SingleScale::new(works));
+        self.spare_macro = None;
+        let two_scale = self.settings.two_scale;
+        self.settings.two_scale = false;
+        self.set_scale(two_scale, self.settings.k)?;
+        self.settings.two_scale = two_scale;
         self.counters.setup_s += start.elapsed().as_secs_f64();
         Ok(())
     }
@@ -216,10 +250,10 @@ impl Solver {
 
 /// Factorizes S of every class representative.
 fn factorize(problem: &Problem, classes: &Classes, k: f64) -> Result<Vec<CholeskyFactor>> {
-    let dt = problem.time.dt;
+    let time = problem.step_coefficients();
     par::map_range(classes.count(), |c| {
         let sub = &problem.subs[classes.representatives[c]];
-        CholeskyFactor::new(sub.ndof(), &sub.operator_triplets(dt, k)).map_err(|reason| {
+        CholeskyFactor::new(sub.ndof(), &sub.operator_triplets(&time, k)).map_err(|reason| {
             LopinError::Factorization {
                 sub: sub.name.clone(),
                 reason,
@@ -232,10 +266,11 @@ fn factorize(problem: &Problem, classes: &Classes, k: f64) -> Result<Vec<Cholesk
 
 /// Scratch buffers of every substructure's linear stage.
 fn make_works(problem: &Problem, classes: &Classes, factors: &[CholeskyFactor]) -> Vec<LinearWork> {
+    let time = problem.step_coefficients();
     problem
         .subs
         .iter()
         .enumerate()
-        .map(|(i, s)| LinearWork::new(s, &factors[classes.of[i]], problem.time.dt))
+        .map(|(i, s)| LinearWork::new(s, &factors[classes.of[i]], &time))
         .collect()
 }

@@ -11,6 +11,7 @@ use crate::hex8;
 use crate::material::Material;
 use crate::mesh::{Element, Mesh, Vec3};
 use crate::sparse::SymmetricMatrix;
+use crate::time_scheme::StepCoefficients;
 
 /// A substructure with its assembled mass and stiffness.
 #[derive(Debug, Clone)]
@@ -163,15 +164,20 @@ impl Substructure {
         v
     }
 
-    /// Lower-triangle triplets of S = 2/Δt M + Δt/2 K + k Bᵀ A B (METHOD §4).
-    pub fn operator_triplets(&self, dt: f64, k: f64) -> Vec<Triplet<usize, usize, f64>> {
+    /// Lower-triangle triplets of S = c_M M + c_K K + k Bᵀ A B (METHOD §4; 2/Δt M + Δt/2 K for
+    /// the trapezoidal rule, [`crate::time_scheme`]).
+    pub fn operator_triplets(
+        &self,
+        time: &StepCoefficients,
+        k: f64,
+    ) -> Vec<Triplet<usize, usize, f64>> {
         let mut t: Vec<Triplet<usize, usize, f64>> = self
             .stiffness
             .lower_entries()
-            .map(|(r, c, v)| Triplet::new(r, c, 0.5 * dt * v))
+            .map(|(r, c, v)| Triplet::new(r, c, time.stiffness * v))
             .collect();
         for (i, &m) in self.mass.iter().enumerate() {
-            t.push(Triplet::new(i, i, 2.0 / dt * m));
+            t.push(Triplet::new(i, i, time.mass * m));
         }
         for (&d, &a) in self.trace_dofs.iter().zip(&self.trace_area) {
             t.push(Triplet::new(d, d, k * a));

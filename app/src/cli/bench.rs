@@ -44,6 +44,7 @@ pub fn bench(args: &BenchArgs) -> anyhow::Result<ExitCode> {
             tol: Some(1e-300),
             k: None,
             mu: None,
+            rho_inf: None,
             refine,
             split: 1,
             window: None,

@@ -25,6 +25,11 @@ pub struct SceneArgs {
     /// Relaxation μ in (0, 1] (default 0.8).
     #[arg(long, allow_hyphen_values = true)]
     pub mu: Option<f64>,
+    /// Spectral radius at infinite frequency of the time scheme in [0, 1]: 1 is the undamped
+    /// trapezoidal rule, smaller damps the highest frequencies (default: the scene's
+    /// `solver.rho_inf`, else 1).
+    #[arg(long = "rho-inf", allow_hyphen_values = true)]
+    pub rho_inf: Option<f64>,
     /// Multiply the mesh divisions by K.
     #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     pub refine: usize,
@@ -168,7 +173,14 @@ pub fn build(args: &SceneArgs) -> anyhow::Result<Built> {
         source,
         footprint,
     } = admitted(args)?;
-    let problem = scene::build::build(&spec, &source)?;
+    let mut problem = scene::build::build(&spec, &source)?;
+    if let Some(r) = args.rho_inf {
+        let scheme = lopin_core::time_scheme::TimeScheme::new(r);
+        scheme
+            .check()
+            .map_err(|reason| anyhow::anyhow!("--rho-inf {r}: {reason}"))?;
+        problem.scheme = scheme;
+    }
     let mut settings = Settings::for_problem(&problem, &spec.solver);
     if let Some(v) = args.tol {
         settings.tol = v;

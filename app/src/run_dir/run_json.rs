@@ -34,6 +34,13 @@ pub struct ProblemFacts {
     pub dofs: usize,
     pub steps: usize,
     pub dt: f64,
+    /// ρ∞ of the time scheme (1: the undamped trapezoidal rule).
+    #[serde(default = "undamped")]
+    pub rho_inf: f64,
+}
+
+fn undamped() -> f64 {
+    1.0
 }
 
 impl ProblemFacts {
@@ -45,6 +52,7 @@ impl ProblemFacts {
             dofs: p.dof_count(),
             steps: p.time.steps,
             dt: p.time.dt,
+            rho_inf: p.scheme.rho_inf,
         }
     }
 }

@@ -183,6 +183,7 @@ pub fn build(spec: &SceneSpec, source: &str) -> Result<Problem> {
         subs,
         interfaces,
         time: spec.time,
+        scheme: crate::time_scheme::TimeScheme::new(spec.solver.rho_inf.unwrap_or(1.0)),
         velocity_signs: Vec::new(),
     };
     problem.record_velocity_signs();

@@ -75,6 +75,10 @@ pub struct SolverSpec {
     /// Time-window length in steps (absent: whole interval).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub window: Option<usize>,
+    /// Spectral radius at infinite frequency of the time scheme (1: the undamped trapezoidal
+    /// rule; smaller damps the highest frequencies, [`crate::time_scheme`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rho_inf: Option<f64>,
     /// Two-scale linear stage with the macro problem of METHOD §9 (absent: off).
     #[serde(default, rename = "macro", skip_serializing_if = "Option::is_none")]
     pub two_scale: Option<bool>,

@@ -117,6 +117,11 @@ fn validate_expanded(spec: &SceneSpec, source: &str, generated: Generated) -> Re
             return err("solver.k".into(), format!("must be positive, got {k}"));
         }
     }
+    if let Some(r) = s.rho_inf {
+        if let Err(reason) = crate::time_scheme::TimeScheme::new(r).check() {
+            return err("solver.rho_inf".into(), reason);
+        }
+    }
     if s.window == Some(0) {
         return err("solver.window".into(), "must be at least 1 step".into());
     }

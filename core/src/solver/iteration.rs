@@ -156,7 +156,7 @@ impl Solver {
         let sub_states = p
             .subs
             .iter()
-            .map(|s| SubState::initial(s, p.time.dt))
+            .map(|s| SubState::initial(s, &p.step_coefficients()))
             .collect();
         let contact_start: Vec<Option<ContactRunning>> = p
             .interfaces
@@ -280,6 +280,7 @@ impl SolveRun {
             s: &self.s,
             k,
             time: problem.time,
+            step: problem.step_coefficients(),
             steps: (self.m0, self.m1),
         };
         let starts = &self.contact_start;
@@ -305,7 +306,7 @@ impl SolveRun {
             interfaces: &problem.interfaces,
             hats: &self.hats,
             k: settings.k,
-            dt: problem.time.dt,
+            time: problem.step_coefficients(),
             steps: (m0, m1),
         };
         let outcome = linear.run(ops, &self.sub_states, &lin, whole, &mut self.s_new.subs);

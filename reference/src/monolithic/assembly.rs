@@ -4,6 +4,7 @@
 //! their local frames (METHOD §5: normal n outward of side 1, tangent plane).
 
 use faer::sparse::Triplet;
+use lopin_core::time_scheme::StepCoefficients;
 
 use super::numbering::Numbering;
 use lopin_core::error::{LopinError, Result};
@@ -175,8 +176,9 @@ impl Assembled {
         })
     }
 
-    /// Lower-triangle triplets of S_ff = (2/Δt M + Δt/2 K) restricted to the free dofs.
-    pub fn free_operator(&self, dt: f64) -> Vec<Triplet<usize, usize, f64>> {
+    /// Lower-triangle triplets of S_ff = (c_M M + c_K K) restricted to the free dofs (2/Δt M +
+    /// Δt/2 K for the trapezoidal rule; the coefficients of `lopin_core::time_scheme`).
+    pub fn free_operator(&self, time: &StepCoefficients) -> Vec<Triplet<usize, usize, f64>> {
         let mut t: Vec<Triplet<usize, usize, f64>> = self
             .stiffness
             .lower_entries()
@@ -184,14 +186,14 @@ impl Assembled {
                 let (fr, fc) = (self.free_index[r], self.free_index[c]);
                 (fr != usize::MAX && fc != usize::MAX).then(|| {
                     // free numbering preserves order, so row ≥ col stays lower
-                    Triplet::new(fr, fc, 0.5 * dt * v)
+                    Triplet::new(fr, fc, time.stiffness * v)
                 })
             })
             .collect();
         for (g, &m) in self.mass.iter().enumerate() {
             let f = self.free_index[g];
             if f != usize::MAX {
-                t.push(Triplet::new(f, f, 2.0 / dt * m));
+                t.push(Triplet::new(f, f, time.mass * m));
             }
         }
         t

@@ -1,10 +1,13 @@
-//! The time march of the assembled structure: the trapezoidal rule of METHOD §2 on all dofs at
-//! once, prescribed velocities imposed strongly, prescribed tractions as nodal loads, and at each
-//! step the contact problem of the pairs solved on the Delassus operator (contact_solve.rs).
+//! The time march of the assembled structure: the scheme of METHOD §2 (the trapezoidal rule, or
+//! its dissipative Bossak–Newmark extension of `lopin_core::time_scheme`, the same discrete
+//! problem LATIN solves) on all dofs at once, prescribed velocities imposed strongly, prescribed
+//! tractions as nodal loads, and at each step the contact problem of the pairs solved on the
+//! Delassus operator (contact_solve.rs).
 //!
-//!   (2/Δt M + Δt/2 K) v_m = f_ext,m + M(2/Δt v_{m−1} + a_{m−1}) − K(u_{m−1} + Δt/2 v_{m−1}) + Gᵀ y_m
-//!   u_m = u_{m−1} + Δt/2 (v_{m−1} + v_m),  a_m = 2/Δt (v_m − v_{m−1}) − a_{m−1}
-//!   g_m = g_{m−1} + Δt/2 ([v_n]_{m−1} + [v_n]_m)   (METHOD §5 gap update)
+//!   (c_M M + c_K K) v_m = f_ext,m + M(c_M v_{m−1} + c_A a_{m−1}) − K(u_{m−1} + d_V v_{m−1} + d_A a_{m−1}) + Gᵀ y_m
+//!   u_m = u_{m−1} + d_V v_{m−1} + d_A a_{m−1} + c_K v_m,  a_m = e_V (v_m − v_{m−1}) − e_A a_{m−1}
+//!   (trapezoidal: c_M = 2/Δt, c_K = d_V = Δt/2, c_A = e_A = 1, d_A = 0)
+//!   g_m = g_{m−1} + Δt/2 ([v_n]_{m−1} + [v_n]_m)   (METHOD §5 gap update, for every scheme)
 
 use super::assembly::Assembled;
 use super::contact_solve::{solve_step, ContactControls};
@@ -14,6 +17,7 @@ use lopin_core::error::Result;
 use lopin_core::factor::CholeskyFactor;
 use lopin_core::mesh::{dot, Vec3};
 use lopin_core::time_function::TimeGrid;
+use lopin_core::time_scheme::StepCoefficients;
 
 /// The reference solution: global fields at every step m = 0..=N and the contact history of
 /// every pair.
@@ -49,6 +53,7 @@ pub fn march(
     factor: &CholeskyFactor,
     delassus: &Delassus,
     time: TimeGrid,
+    c: StepCoefficients,
     controls: ContactControls,
 ) -> Result<MonoSolution> {
     let (dt, steps) = (time.dt, time.steps);
@@ -103,7 +108,7 @@ pub fn march(
         let clock = Instant::now();
         let t = time.time(m);
         for g in 0..n {
-            tmp[g] = u[g] + 0.5 * dt * v[g];
+            tmp[g] = u[g] + c.u_from_v * v[g] + c.u_from_a * a[g];
         }
         asm.stiffness.mul_into(&tmp, &mut ktmp);
         // v_new holds the prescribed values (zero on free dofs) to form S_fp v_p
@@ -117,11 +122,11 @@ pub fn march(
             let fi = asm.free_index[g];
             if fi != usize::MAX {
                 let coupling = if any_prescribed {
-                    0.5 * dt * kp[g]
+                    c.stiffness * kp[g]
                 } else {
                     0.0
                 };
-                rhs[fi] = asm.mass[g] * (2.0 / dt * v[g] + a[g]) - ktmp[g] - coupling;
+                rhs[fi] = asm.mass[g] * (c.mass * v[g] + c.mass_a * a[g]) - ktmp[g] - coupling;
             }
         }
         for &(g, area, f) in &asm.tractions {
@@ -147,7 +152,8 @@ pub fn march(
                 for k in 0..3 {
                     q[3 * p + k] = dot(asm.pairs[p].frame[k], j);
                 }
-                let v_star = -2.0 * gap[p] / dt - jn[p];
+                let an = dot(asm.pairs[p].frame[0], jump(&a, p));
+                let v_star = c.closing_velocity(gap[p], jn[p], an);
                 v_lim[p] = v_star.min(0.0);
             }
             let (sweeps, change) =
@@ -177,12 +183,14 @@ pub fn march(
             for (p, pair) in asm.pairs.iter().enumerate() {
                 let j = jump(&v_new, p);
                 let jn_new = dot(pair.frame[0], j);
-                gap[p] += 0.5 * dt * (jn[p] + jn_new);
-                jn[p] = jn_new;
                 let jt = tangential(j, pair.frame[0]);
-                for c in 0..3 {
-                    slip[p][c] += 0.5 * dt * (jt_prev[p][c] + jt[c]);
+                if c.trapezoidal {
+                    gap[p] += 0.5 * dt * (jn[p] + jn_new);
+                    for q in 0..3 {
+                        slip[p][q] += 0.5 * dt * (jt_prev[p][q] + jt[q]);
+                    }
                 }
+                jn[p] = jn_new;
                 jt_prev[p] = jt;
                 forces[p] = [y[3 * p], -y[3 * p + 1], -y[3 * p + 2]];
             }
@@ -190,10 +198,23 @@ pub fn march(
         }
 
         let clock = Instant::now();
+        let u_prev = if c.trapezoidal { Vec::new() } else { u.clone() };
         for g in 0..n {
-            let a_new = 2.0 / dt * (v_new[g] - v[g]) - a[g];
-            u[g] += 0.5 * dt * (v[g] + v_new[g]);
-            a[g] = a_new;
+            (u[g], a[g]) = c.advance(u[g], v[g], a[g], v_new[g]);
+        }
+        if !c.trapezoidal {
+            // gap and slip from the displacement jump of the scheme's update
+            for (p, pair) in asm.pairs.iter().enumerate() {
+                let du: Vec3 = std::array::from_fn(|q| {
+                    (u[3 * pair.b + q] - u_prev[3 * pair.b + q])
+                        - (u[3 * pair.a + q] - u_prev[3 * pair.a + q])
+                });
+                gap[p] += dot(pair.frame[0], du);
+                let dt_slip = tangential(du, pair.frame[0]);
+                for q in 0..3 {
+                    slip[p][q] += dt_slip[q];
+                }
+            }
         }
         std::mem::swap(&mut v, &mut v_new);
         sol.u.push(u.clone());

@@ -45,13 +45,13 @@ impl Monolithic {
     pub fn new(problem: Problem) -> Result<Self> {
         let clock = Instant::now();
         let asm = Assembled::new(&problem)?;
-        let factor = CholeskyFactor::new(asm.free, &asm.free_operator(problem.time.dt)).map_err(
-            |reason| {
+        let time = problem.step_coefficients();
+        let factor =
+            CholeskyFactor::new(asm.free, &asm.free_operator(&time)).map_err(|reason| {
                 LopinError::Reference(format!(
-                    "factorization of 2/dt M + dt/2 K on the free dofs failed: {reason}"
+                    "factorization of c_M M + c_K K on the free dofs failed: {reason}"
                 ))
-            },
-        )?;
+            })?;
         let delassus = Delassus::new(&asm, &factor);
         Ok(Self {
             problem,
@@ -112,6 +112,7 @@ impl Monolithic {
             &self.factor,
             &self.delassus,
             self.problem.time,
+            self.problem.step_coefficients(),
             self.controls,
         )
     }

@@ -1,7 +1,9 @@
 //! Quantities of the reference solution in the shapes the LATIN post-processing reports
 //! (post.rs): energy balance (METHOD §2 identity), contact histories per contact interface
 //! (METHOD §5: pressure, gap, slip, step-averaged normal force) and the interface force on every
-//! substructure dof, M_E a + K_E u = Σ_Γ Bᵀ A F (METHOD §2 equilibrium of substructure E).
+//! substructure dof, M_E ā + K_E u = Σ_Γ Bᵀ A F (METHOD §2 equilibrium of substructure E, with
+//! the inertia acceleration ā_m = (1 − α_m) a_m + α_m a_{m−1} of the scheme: a_m for the
+//! trapezoidal rule).
 
 use super::{MonoSolution, Monolithic};
 use lopin_core::histories::{ContactHistory, EnergyHistory, Summary};
@@ -9,6 +11,20 @@ use lopin_core::interface::Law;
 use lopin_core::mesh::{dot, Vec3};
 
 impl Monolithic {
+    /// The acceleration the equation of motion of step m holds: ā_m = (1 − α_m) a_m + α_m a_{m−1}
+    /// (a_m for the trapezoidal rule and at m = 0).
+    fn inertia_acceleration(&self, sol: &MonoSolution, m: usize) -> Vec<f64> {
+        let alpha_m = self.problem.scheme.parameters().0;
+        if m == 0 || self.problem.scheme.is_trapezoidal() {
+            return sol.a[m].clone();
+        }
+        sol.a[m]
+            .iter()
+            .zip(&sol.a[m - 1])
+            .map(|(a, ap)| (1.0 - alpha_m) * a + alpha_m * ap)
+            .collect()
+    }
+
     /// Kinetic and strain energy and the cumulative work of the boundary conditions.
     pub fn energy(&self, sol: &MonoSolution) -> EnergyHistory {
         let asm = &self.asm;
@@ -30,7 +46,7 @@ impl Monolithic {
         let mut prev_b = vec![0.0; n];
         let mut ku = vec![0.0; n];
         for m in 0..=steps {
-            let (u, v, a) = (&sol.u[m], &sol.v[m], &sol.a[m]);
+            let (u, v, a) = (&sol.u[m], &sol.v[m], &self.inertia_acceleration(sol, m));
             e.kinetic[m] = 0.5 * (0..n).map(|g| asm.mass[g] * v[g] * v[g]).sum::<f64>();
             asm.stiffness.mul_into(u, &mut ku);
             e.strain[m] = 0.5 * dot_slices(u, &ku);
@@ -56,10 +72,18 @@ impl Monolithic {
                 }
             }
             if m > 0 {
-                let vp = &sol.v[m - 1];
+                let (vp, up) = (&sol.v[m - 1], &sol.u[m - 1]);
+                let trapezoidal = self.problem.scheme.is_trapezoidal();
+                let gamma = self.problem.scheme.parameters().1;
                 let dw: f64 = (0..n)
                     .filter(|&g| boundary[g])
-                    .map(|g| 0.25 * dt * (b[g] + prev_b[g]) * (v[g] + vp[g]))
+                    .map(|g| {
+                        if trapezoidal {
+                            0.25 * dt * (b[g] + prev_b[g]) * (v[g] + vp[g])
+                        } else {
+                            (gamma * b[g] + (1.0 - gamma) * prev_b[g]) * (u[g] - up[g])
+                        }
+                    })
                     .sum();
                 e.input_work[m] = e.input_work[m - 1] + dw;
             }
@@ -117,7 +141,7 @@ impl Monolithic {
         Summary::from_histories(&self.energy(sol), &self.contact(sol))
     }
 
-    /// Total interface force on every dof of every substructure at step m: M_E a_E + K_E u_E.
+    /// Total interface force on every dof of every substructure at step m: M_E ā_E + K_E u_E.
     pub fn sub_forces(&self, sol: &MonoSolution, m: usize) -> Vec<Vec<f64>> {
         self.problem
             .subs
@@ -128,7 +152,10 @@ impl Monolithic {
                 let gather = |x: &[f64]| -> Vec<f64> {
                     (0..nd).map(|d| x[self.asm.numbering.dof(s, d)]).collect()
                 };
-                let (u, a) = (gather(&sol.u[m]), gather(&sol.a[m]));
+                let (u, a) = (
+                    gather(&sol.u[m]),
+                    gather(&self.inertia_acceleration(sol, m)),
+                );
                 let mut f = vec![0.0; nd];
                 sub.stiffness.mul_into(&u, &mut f);
                 for d in 0..nd {
