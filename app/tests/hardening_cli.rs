@@ -186,3 +186,17 @@ fn dt_5e_324_names_time_dt_and_the_scale_it_is_judged_against() {
         "{stderr}"
     );
 }
+
+/// `--rho-inf` outside [0, 1] is refused naming the option and the range; inside, the run's JSON
+/// reports the scheme it solved with.
+#[test]
+fn rho_inf_out_of_range() {
+    for bad in ["1.5", "-0.2", "nan"] {
+        let err = refused(&["run", "bar", "--rho-inf", bad], &[]);
+        assert!(err.contains("--rho-inf") && err.contains("[0, 1]"), "{err}");
+    }
+    let (out, _) = lopin(&["run", "bar", "--rho-inf", "0.8", "--json"], &[]);
+    assert!(out.status.success());
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+    assert_eq!(json["rho_inf"], 0.8);
+}
