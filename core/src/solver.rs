@@ -106,13 +106,8 @@ impl Solver {
         settings.validate_for(&self.problem)?;
         let start = Instant::now();
         if settings.k != self.settings.k {
-            let factors = factorize(&self.problem, &self.classes, settings.k)?;
-            self.factors = factors;
-            let works = make_works(&self.problem, &self.classes, &self.factors);
-            self.linear = LinearStage::SingleScale(SingleScale::new(works));
-            self.spare_macro = None;
+            self.refactorize(settings.k)?;
             self.settings.k = settings.k;
-            self.settings.two_scale = false;
         }
         self.set_scale(settings.two_scale, settings.k)?;
         self.settings = settings;
@@ -134,22 +129,27 @@ impl Solver {
         let start = Instant::now();
         let previous = self.problem.scheme;
         self.problem.scheme = scheme;
-        let factors = match factorize(&self.problem, &self.classes, self.settings.k) {
-            Ok(f) => f,
-            Err(e) => {
-                self.problem.scheme = previous;
-                return Err(e);
-            }
-        };
-        self.factors = factors;
-        let works = make_works(&self.problem, &self.classes, &self.factors);
-        self.linear = LinearStage::SingleScale(SingleScale::new(works));
-        self.spare_macro = None;
+        if let Err(e) = self.refactorize(self.settings.k) {
+            self.problem.scheme = previous;
+            return Err(e);
+        }
         let two_scale = self.settings.two_scale;
         self.settings.two_scale = false;
         self.set_scale(two_scale, self.settings.k)?;
         self.settings.two_scale = two_scale;
         self.counters.setup_s += start.elapsed().as_secs_f64();
+        Ok(())
+    }
+
+    /// Factorizes S of every class for search direction `k` and the current scheme, and leaves
+    /// the single-scale linear stage on the new factors (the macro problem, built on the old
+    /// ones, is dropped). On an error nothing changes.
+    fn refactorize(&mut self, k: f64) -> Result<()> {
+        self.factors = factorize(&self.problem, &self.classes, k)?;
+        let works = make_works(&self.problem, &self.classes, &self.factors);
+        self.linear = LinearStage::SingleScale(SingleScale::new(works));
+        self.spare_macro = None;
+        self.settings.two_scale = false;
         Ok(())
     }
 

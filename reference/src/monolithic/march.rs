@@ -102,6 +102,12 @@ pub fn march(
     let mut rhs = vec![0.0; asm.free];
     let mut v_new = vec![0.0; n];
     let any_prescribed = asm.free < n;
+    // displacements of the previous step (the gap update of a dissipative scheme)
+    let mut u_prev = if c.trapezoidal {
+        Vec::new()
+    } else {
+        vec![0.0; n]
+    };
     let mut kp = vec![0.0; if any_prescribed { n } else { 0 }];
 
     for m in 1..=steps {
@@ -198,7 +204,9 @@ pub fn march(
         }
 
         let clock = Instant::now();
-        let u_prev = if c.trapezoidal { Vec::new() } else { u.clone() };
+        if !c.trapezoidal {
+            u_prev.copy_from_slice(&u);
+        }
         for g in 0..n {
             (u[g], a[g]) = c.advance(u[g], v[g], a[g], v_new[g]);
         }
