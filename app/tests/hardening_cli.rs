@@ -200,3 +200,18 @@ fn rho_inf_out_of_range() {
     let json: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
     assert_eq!(json["rho_inf"], 0.8);
 }
+
+/// `--directions` takes `isotropic` or `wave`: another name is refused with both listed; the
+/// report says which direction ran.
+#[test]
+fn unknown_search_direction() {
+    let err = refused(&["run", "bar", "--directions", "tensor"], &[]);
+    assert!(
+        err.contains("--directions") && err.contains("isotropic or wave"),
+        "{err}"
+    );
+    let (out, _) = lopin(&["run", "bar", "--directions", "wave", "--json"], &[]);
+    assert!(out.status.success());
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+    assert_eq!(json["settings"]["directions"], "wave");
+}

@@ -200,6 +200,7 @@ pub fn boundary_interface(
             offset: 0,
             nodes,
         }],
+        k_scale: vec![1.0; areas.len()],
         area: areas,
         law: Law::Boundary(laws),
     })
@@ -210,6 +211,7 @@ pub fn assemble_traces(subs: &mut [Substructure], interfaces: &mut [Interface]) 
     for s in subs.iter_mut() {
         s.trace_dofs.clear();
         s.trace_area.clear();
+        s.trace_k.clear();
         s.sides.clear();
     }
     for (i, iface) in interfaces.iter_mut().enumerate() {
@@ -226,9 +228,10 @@ pub fn assemble_traces(subs: &mut [Substructure], interfaces: &mut [Interface]) 
             });
             match &boundary {
                 Some(laws) => {
-                    for ((&n, law), &a) in side.nodes.iter().zip(laws).zip(&iface.area) {
+                    for (j, (&n, law)) in side.nodes.iter().zip(laws).enumerate() {
                         sub.trace_dofs.push(3 * n + law.component);
-                        sub.trace_area.push(a);
+                        sub.trace_area.push(iface.area[j]);
+                        sub.trace_k.push(iface.k_scale[j]);
                     }
                 }
                 None => {
@@ -236,6 +239,7 @@ pub fn assemble_traces(subs: &mut [Substructure], interfaces: &mut [Interface]) 
                         for c in 0..3 {
                             sub.trace_dofs.push(3 * n + c);
                             sub.trace_area.push(iface.area[3 * j + c]);
+                            sub.trace_k.push(iface.k_scale[3 * j + c]);
                         }
                     }
                 }
@@ -295,6 +299,7 @@ fn build_two_sided(
                 nodes: side2,
             },
         ],
+        k_scale: vec![1.0; area.len()],
         area,
         law,
     }

@@ -88,6 +88,9 @@ pub struct Interface {
     pub len: usize,
     /// Lumped area A per trace dof (the same on both sides).
     pub area: Vec<f64>,
+    /// Search direction factor per trace dof, the same on both sides: k_j = k · k_scale[j]
+    /// (all 1 for the scalar k of METHOD §3, [`crate::search_direction`]).
+    pub k_scale: Vec<f64>,
     /// Behaviour.
     pub law: Law,
 }

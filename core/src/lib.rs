@@ -50,6 +50,7 @@ pub mod parameter;
 pub mod post;
 pub mod problem;
 pub mod scene;
+pub mod search_direction;
 #[cfg(feature = "latin")]
 pub mod solver;
 pub mod sparse;

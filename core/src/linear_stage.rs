@@ -188,7 +188,7 @@ pub fn predict(
         }
     }
     for (j, &d) in sub.trace_dofs.iter().enumerate() {
-        rhs[d] += sub.trace_area[j] * (fhat[j] + k * what[j]);
+        rhs[d] += sub.trace_area[j] * (fhat[j] + k * sub.trace_k[j] * what[j]);
     }
     y.copy_from_slice(rhs);
     factor.solve_in_place(rhs, scratch);
@@ -197,7 +197,7 @@ pub fn predict(
 /// F¹ = F̂_m + k (Ŵ_m − B v¹) on the trace, after [`predict`] (METHOD §9 step 1).
 pub fn trial_force(sub: &Substructure, work: &LinearWork, k: f64, out: &mut [f64]) {
     for (j, &d) in sub.trace_dofs.iter().enumerate() {
-        out[j] = work.fhat[j] + k * (work.what[j] - work.rhs_then_v[d]);
+        out[j] = work.fhat[j] + k * sub.trace_k[j] * (work.what[j] - work.rhs_then_v[d]);
     }
 }
 
@@ -243,7 +243,7 @@ pub fn complete(
             }
         }
         for (j, &d) in sub.trace_dofs.iter().enumerate() {
-            y[d] += k * sub.trace_area[j] * c.macro_trace[j];
+            y[d] += k * sub.trace_k[j] * sub.trace_area[j] * c.macro_trace[j];
         }
     }
     let mut sums = IndicatorSums::default();
@@ -254,13 +254,13 @@ pub fn complete(
     let r = out.at(m);
     for (j, &d) in sub.trace_dofs.iter().enumerate() {
         let w = rhs[d];
-        let a = sub.trace_area[j];
-        y[d] -= k * a * w;
+        let (a, kj) = (sub.trace_area[j], k * sub.trace_k[j]);
+        y[d] -= kj * a * w;
         let macro_w = correction.as_ref().map_or(0.0, |c| c.macro_trace[j]);
-        let f = fhat[j] + k * (what[j] + macro_w - w);
+        let f = fhat[j] + kj * (what[j] + macro_w - w);
         out.w[r.start + j] = w;
         out.f[r.start + j] = f;
-        sums.add_dof(a, k, (f, w), (fhat[j], what[j]));
+        sums.add_dof(a, kj, (f, w), (fhat[j], what[j]));
     }
     // K u_m = K u + d_V K v + d_A K a + c_K K v_m; K a_m = e_V K (v_m − v) − e_A K a (carried
     // only for a dissipative scheme; the trapezoidal rule keeps its formulas as written)

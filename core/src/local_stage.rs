@@ -71,8 +71,9 @@ pub fn local_stage(
                 let (h1, h2) = (&mut h1[0], &mut h2[0]);
                 for j in 0..iface.len {
                     let (f1, w1, f2, w2) = (a.0[j], a.1[j], b.0[j], b.1[j]);
-                    let ft = 0.5 * (f1 - f2) + 0.5 * k * (w2 - w1);
-                    let half_sigma = 0.5 * (w1 + w2 - (f1 + f2) / k);
+                    let kj = k * iface.k_scale[j];
+                    let ft = 0.5 * (f1 - f2) + 0.5 * kj * (w2 - w1);
+                    let half_sigma = 0.5 * (w1 + w2 - (f1 + f2) / kj);
                     h1.f[r.start + j] = ft;
                     h2.f[r.start + j] = -ft;
                     h1.w[r.start + j] = half_sigma;
@@ -87,6 +88,7 @@ pub fn local_stage(
                 let (f, w) = side_values(iface, input.s, m).0;
                 let r = hat[0].at(m);
                 for (j, d) in dofs.iter().enumerate() {
+                    let k = k * iface.k_scale[j];
                     let (fh, wh) = match d.law {
                         DofLaw::Velocity(g) => {
                             let wd = g.value(t);
@@ -115,16 +117,18 @@ pub fn local_stage(
                 let (h1, h2) = (&mut h1[0], &mut h2[0]);
                 for (i, &n) in c.normal.iter().enumerate() {
                     let (f1, w1, f2, w2) = (node(a.0, i), node(a.1, i), node(b.0, i), node(b.1, i));
+                    let ks: Vec3 = std::array::from_fn(|q| k * iface.k_scale[3 * i + q]);
                     let mut ft = [0.0; 3];
                     let mut sigma = [0.0; 3];
                     for q in 0..3 {
-                        ft[q] = 0.5 * (f1[q] - f2[q]) + 0.5 * k * (w2[q] - w1[q]);
-                        sigma[q] = w1[q] + w2[q] - (f1[q] + f2[q]) / k;
+                        ft[q] = 0.5 * (f1[q] - f2[q]) + 0.5 * ks[q] * (w2[q] - w1[q]);
+                        sigma[q] = w1[q] + w2[q] - (f1[q] + f2[q]) / ks[q];
                     }
                     let (gap, jn_prev, an_prev) =
                         (run.gap[i], run.normal_jump[i], run.normal_accel[i]);
                     let v_star = c_step.closing_velocity(gap, jn_prev, an_prev);
-                    let (fh1, jump, jn) = contact_node(ft, n, c.friction, v_star, k);
+                    let (fh1, jump, jn) =
+                        contact_node(ft, n, c.friction, v_star, normal_tangential(ks, n));
                     (run.gap[i], run.normal_accel[i]) = c_step.advance(gap, jn_prev, an_prev, jn);
                     run.normal_jump[i] = jn;
                     for q in 0..3 {
@@ -141,13 +145,33 @@ pub fn local_stage(
     }
 }
 
+/// (k_n, k_t) of a node whose direction is diag(ks) in global axes: n·K n and the mean of the
+/// other two axes (exact when n is a coordinate axis, the only case where ks is not k I:
+/// [`crate::search_direction`]).
+fn normal_tangential(ks: Vec3, n: Vec3) -> (f64, f64) {
+    if ks[0] == ks[1] && ks[1] == ks[2] {
+        return (ks[0], ks[0]);
+    }
+    let kn: f64 = (0..3).map(|q| n[q] * n[q] * ks[q]).sum();
+    let kt: f64 = (0..3).map(|q| (1.0 - n[q] * n[q]) * ks[q]).sum::<f64>() / 2.0;
+    (kn, kt)
+}
+
 /// The contact closed form of METHOD §5 for one node and step, given V* (the normal velocity
-/// jump that closes the gap, [`StepCoefficients::closing_velocity`]): returns (F̂₁, [Ŵ], [Ŵ_n]).
-pub fn contact_node(ft: Vec3, n: Vec3, friction: f64, v_star: f64, k: f64) -> (Vec3, Vec3, f64) {
+/// jump that closes the gap, [`StepCoefficients::closing_velocity`]) and the search direction's
+/// normal and tangential parts (k_n, k_t) (k_n = k_t = k for the scalar direction): returns
+/// (F̂₁, [Ŵ], [Ŵ_n]).
+pub fn contact_node(
+    ft: Vec3,
+    n: Vec3,
+    friction: f64,
+    v_star: f64,
+    (kn, kt): (f64, f64),
+) -> (Vec3, Vec3, f64) {
     let ftn = dot(ft, n);
     let v_lim = v_star.min(0.0);
-    let p = (0.5 * k * v_lim - ftn).max(0.0);
-    let jn = 2.0 / k * (ftn + p);
+    let p = (0.5 * kn * v_lim - ftn).max(0.0);
+    let jn = 2.0 / kn * (ftn + p);
     let ftt = [ft[0] - ftn * n[0], ft[1] - ftn * n[1], ft[2] - ftn * n[2]];
     let norm_t = dot(ftt, ftt).sqrt();
     let (fht, jt) = if norm_t <= friction * p {
@@ -155,7 +179,7 @@ pub fn contact_node(ft: Vec3, n: Vec3, friction: f64, v_star: f64, k: f64) -> (V
     } else {
         let s = friction * p / norm_t;
         let fht = [s * ftt[0], s * ftt[1], s * ftt[2]];
-        let jt = std::array::from_fn(|q| 2.0 / k * (ftt[q] - fht[q]));
+        let jt = std::array::from_fn(|q| 2.0 / kt * (ftt[q] - fht[q]));
         (fht, jt)
     };
     let fh1 = std::array::from_fn(|q| -p * n[q] + fht[q]);
@@ -211,14 +235,14 @@ mod tests {
         let v = c.closing_velocity(gap, jn, an);
         let (g, _) = c.advance(gap, jn, an, v);
         assert!(g.abs() < 1e-15, "{g}");
-        let (_, _, jn_new) = contact_node([0.0, 0.0, -10.0], N, 0.0, v.min(0.0), 2.0);
+        let (_, _, jn_new) = contact_node([0.0, 0.0, -10.0], N, 0.0, v.min(0.0), (2.0, 2.0));
         assert!(c.advance(gap, jn, an, jn_new).0 >= -1e-15);
     }
 
     #[test]
     fn separation_gives_zero_force() {
         // pulling apart (F̃_n > 0) with an open gap: p = 0, F̂ = 0
-        let (f, jump, jn) = contact_node([0.3, 0.0, 2.0], N, 0.5, v_star(1e-3, 0.0), 2.0);
+        let (f, jump, jn) = contact_node([0.3, 0.0, 2.0], N, 0.5, v_star(1e-3, 0.0), (2.0, 2.0));
         assert_eq!(f, [0.0; 3]);
         assert!((jn - 2.0).abs() < 1e-15 && (jump[0] - 0.3).abs() < 1e-15);
     }
@@ -226,22 +250,39 @@ mod tests {
     #[test]
     fn closed_contact_sticks_then_slips_on_the_coulomb_cone() {
         // pushing together from a closed gap: V* = 0, p = −F̃_n
-        let (f, jump, jn) = contact_node([0.1, 0.0, -1.0], N, 0.5, v_star(0.0, 0.0), 2.0);
+        let (f, jump, jn) = contact_node([0.1, 0.0, -1.0], N, 0.5, v_star(0.0, 0.0), (2.0, 2.0));
         assert!((f[2] + 1.0).abs() < 1e-15 && (f[0] - 0.1).abs() < 1e-15 && jn == 0.0);
         assert_eq!(jump, [0.0; 3]);
         // |F̃_t| = 0.8 > f p = 0.5: slip, |F̂_t| = f p, jump along F̃_t
-        let (f, jump, _) = contact_node([0.8, 0.0, -1.0], N, 0.5, v_star(0.0, 0.0), 2.0);
+        let (f, jump, _) = contact_node([0.8, 0.0, -1.0], N, 0.5, v_star(0.0, 0.0), (2.0, 2.0));
         assert!((f[0] - 0.5).abs() < 1e-15);
         assert!((jump[0] - 2.0 / 2.0 * 0.3).abs() < 1e-15);
+    }
+
+    /// A direction with k_n = 3 and k_t = 0.5 (the wave-matched shape): the normal jump reads
+    /// k_n, the tangential slip reads k_t, the forces follow the Signorini–Coulomb cone as before.
+    #[test]
+    fn normal_and_tangential_parts_of_the_direction_enter_their_own_jumps() {
+        // closed and pushed: p = 1, no normal jump; slip [Ŵ_t] = 2/k_t (0.8 − 0.5) = 1.2
+        let (f, jump, jn) = contact_node([0.8, 0.0, -1.0], N, 0.5, v_star(0.0, 0.0), (3.0, 0.5));
+        assert!((f[2] + 1.0).abs() < 1e-15 && (f[0] - 0.5).abs() < 1e-15 && jn == 0.0);
+        assert!((jump[0] - 1.2).abs() < 1e-14, "{jump:?}");
+        // open and pulled: no force, [Ŵ_n] = 2/k_n · 2 = 4/3, [Ŵ_t] = 2/k_t · 0.3 = 1.2
+        let (f, jump, jn) = contact_node([0.3, 0.0, 2.0], N, 0.5, v_star(1e-3, 0.0), (3.0, 0.5));
+        assert_eq!(f, [0.0; 3]);
+        assert!((jn - 4.0 / 3.0).abs() < 1e-14 && (jump[0] - 1.2).abs() < 1e-14);
+        // diag(ks) along a coordinate normal splits into (k_n, k_t); equal entries give k
+        assert_eq!(normal_tangential([0.5, 0.5, 3.0], N), (3.0, 0.5));
+        assert_eq!(normal_tangential([2.0; 3], [0.6, 0.0, 0.8]), (2.0, 2.0));
     }
 
     #[test]
     fn approaching_gap_is_closed_exactly_by_the_persistent_law() {
         // gap 1e-3 closing at relative speed −3 over dt = 1e-3: V* = −2 + 3 = 1 > 0 → V_lim = 0
-        let (_, _, jn) = contact_node([0.0, 0.0, -10.0], N, 0.0, v_star(1e-3, -3.0), 2.0);
+        let (_, _, jn) = contact_node([0.0, 0.0, -10.0], N, 0.0, v_star(1e-3, -3.0), (2.0, 2.0));
         assert!(jn >= 0.0);
         // gap 1e-3 with no relative speed: V* = −2: the gap may close but not more
-        let (_, _, jn) = contact_node([0.0, 0.0, -10.0], N, 0.0, v_star(1e-3, 0.0), 2.0);
+        let (_, _, jn) = contact_node([0.0, 0.0, -10.0], N, 0.0, v_star(1e-3, 0.0), (2.0, 2.0));
         assert!((jn + 2.0).abs() < 1e-12);
         let gap = 1e-3 + 0.5 * 1e-3 * (0.0 + jn);
         assert!(gap.abs() < 1e-15);

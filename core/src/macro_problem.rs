@@ -1,7 +1,8 @@
 //! The macro problem of the two-scale linear stage (METHOD §9): the macro bases of all internal
 //! interfaces (perfect and contact), the homogenized operators
 //!
-//!   Z_E = S⁻¹ Bᵀ A Ê,   L_E = k I − k² Êᵀ A B Z_E,
+//!   Z_E = S⁻¹ Bᵀ A s Ê,   L_E = k Êᵀ A s Ê − k² Êᵀ A s B Z_E (s the direction factors of
+//!   [`crate::search_direction`]; s = 1 gives k I − k² Êᵀ A B Z_E),
 //!
 //! computed once per class of identical substructures ([`crate::operator_classes`]), and the
 //! global macro operator L = Σ_E L_E over the macro dofs (9 per planar interface), assembled and
@@ -251,17 +252,41 @@ fn homogenize(
             let col = &mut z[(m.local + c) * n..(m.local + c + 1) * n];
             for (j, e) in b.column(c).iter().enumerate() {
                 let t = m.trace_offset + j;
-                col[sub.trace_dofs[t]] += sub.trace_area[t] * e;
+                col[sub.trace_dofs[t]] += sub.trace_area[t] * sub.trace_k[t] * e;
             }
         }
     }
     if count > 0 {
         factor.solve_many_in_place(&mut z, count);
     }
-    // L_E = k I − k² Êᵀ A B Z_E
+    // L_E = k Êᵀ A s Ê − k² Êᵀ A s B Z_E (= k I − k² Êᵀ A B Z_E for the scalar direction:
+    // Ê is A-orthonormal per interface)
     let mut l = vec![0.0; count * count];
+    let scalar = sub.trace_k.iter().all(|&s| s == 1.0);
     for a in 0..count {
         l[a * count + a] = k;
+    }
+    if !scalar {
+        for m in sides {
+            let Some(b) = &bases[m.interface] else {
+                continue;
+            };
+            for c in 0..b.count {
+                for d in 0..b.count {
+                    let s: f64 = b
+                        .column(c)
+                        .iter()
+                        .zip(b.column(d))
+                        .enumerate()
+                        .map(|(j, (ec, ed))| {
+                            let t = m.trace_offset + j;
+                            ec * sub.trace_area[t] * sub.trace_k[t] * ed
+                        })
+                        .sum();
+                    l[(m.local + c) * count + m.local + d] = k * s;
+                }
+            }
+        }
     }
     for m in sides {
         let Some(b) = &bases[m.interface] else {
@@ -276,7 +301,7 @@ fn homogenize(
                     .enumerate()
                     .map(|(j, ej)| {
                         let t = m.trace_offset + j;
-                        ej * sub.trace_area[t] * zc[sub.trace_dofs[t]]
+                        ej * sub.trace_area[t] * sub.trace_k[t] * zc[sub.trace_dofs[t]]
                     })
                     .sum();
                 l[(m.local + c) * count + col] -= k * k * s;

@@ -73,8 +73,8 @@ fn operator_key(sub: &Substructure) -> Vec<i64> {
     key.extend(sub.mesh.translation_key());
     let mut diag: Vec<(usize, f64)> = Vec::with_capacity(sub.trace_len());
     let mut sums: HashMap<usize, f64> = HashMap::new();
-    for (&d, &a) in sub.trace_dofs.iter().zip(&sub.trace_area) {
-        *sums.entry(d).or_default() += a;
+    for ((&d, &a), &s) in sub.trace_dofs.iter().zip(&sub.trace_area).zip(&sub.trace_k) {
+        *sums.entry(d).or_default() += a * s;
     }
     diag.extend(sums);
     diag.sort_unstable_by_key(|x| x.0);
@@ -115,6 +115,7 @@ pub fn homogenized_classes(
             .fold(0.0f64, |m, &a| m.max(a))
             .max(f64::MIN_POSITIVE);
         key.extend(sub.trace_area.iter().map(|&a| quantize(a, amax)));
+        key.extend(sub.trace_k.iter().map(|&s| quantize(s, 1.0)));
         for (i, offset) in offsets(s) {
             let Some(b) = &bases[i] else { continue };
             key.extend([-1, offset as i64, b.count as i64]);

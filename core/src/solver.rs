@@ -37,6 +37,7 @@ use crate::operator_classes::{factor_classes, Classes};
 use crate::par;
 use crate::parameter::Parameter;
 use crate::problem::Problem;
+use crate::search_direction;
 use crate::state::InterfaceState;
 use linear::{LinearStage, SingleScale};
 use two_scale::TwoScale;
@@ -64,9 +65,10 @@ impl Solver {
     /// trapezoidal rule, [`crate::time_scheme`]) once per class of identical
     /// substructures ([`crate::operator_classes`]), and the macro problem if the settings ask
     /// for the two-scale linear stage.
-    pub fn new(problem: Problem, settings: Settings) -> Result<Self> {
+    pub fn new(mut problem: Problem, settings: Settings) -> Result<Self> {
         settings.validate_for(&problem)?;
         let start = Instant::now();
+        search_direction::apply(&mut problem, settings.directions);
         let classes = factor_classes(&problem.subs);
         let factors = factorize(&problem, &classes, settings.k)?;
         let works = make_works(&problem, &classes, &factors);
@@ -99,13 +101,24 @@ impl Solver {
         &self.settings
     }
 
-    /// Changes the settings; refactorizes only if k changed, and switches the linear stage when
+    /// Changes the settings; refactorizes only if k or the direction shape changed, and switches the linear stage when
     /// the two-scale switch changed (building the macro problem if none is held for this k).
     /// On an error the solver keeps its previous settings.
     pub fn set_settings(&mut self, settings: Settings) -> Result<()> {
         settings.validate_for(&self.problem)?;
         let start = Instant::now();
-        if settings.k != self.settings.k {
+        if settings.directions != self.settings.directions {
+            // the classes of identical operators may split or merge with the direction
+            search_direction::apply(&mut self.problem, settings.directions);
+            let classes = std::mem::replace(&mut self.classes, factor_classes(&self.problem.subs));
+            if let Err(e) = self.refactorize(settings.k) {
+                search_direction::apply(&mut self.problem, self.settings.directions);
+                self.classes = classes;
+                return Err(e);
+            }
+            self.settings.k = settings.k;
+            self.settings.directions = settings.directions;
+        } else if settings.k != self.settings.k {
             self.refactorize(settings.k)?;
             self.settings.k = settings.k;
         }

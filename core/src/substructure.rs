@@ -37,6 +37,9 @@ pub struct Substructure {
     pub trace_dofs: Vec<usize>,
     /// Area A of each trace entry.
     pub trace_area: Vec<f64>,
+    /// Search direction factor per trace dof (k_j = k · trace_k[j]; all 1 for the scalar k,
+    /// [`crate::search_direction`]).
+    pub trace_k: Vec<f64>,
     /// The interface sides whose dofs make up the trace, in trace order.
     pub sides: Vec<SideRef>,
 }
@@ -141,6 +144,7 @@ impl Substructure {
             initial_velocity,
             trace_dofs: Vec::new(),
             trace_area: Vec::new(),
+            trace_k: Vec::new(),
             sides: Vec::new(),
         }
     }
@@ -164,7 +168,7 @@ impl Substructure {
         v
     }
 
-    /// Lower-triangle triplets of S = c_M M + c_K K + k Bᵀ A B (METHOD §4; 2/Δt M + Δt/2 K for
+    /// Lower-triangle triplets of S = c_M M + c_K K + Bᵀ A K B, K = k diag(trace_k) (METHOD §4; 2/Δt M + Δt/2 K for
     /// the trapezoidal rule, [`crate::time_scheme`]).
     pub fn operator_triplets(
         &self,
@@ -179,8 +183,13 @@ impl Substructure {
         for (i, &m) in self.mass.iter().enumerate() {
             t.push(Triplet::new(i, i, time.mass * m));
         }
-        for (&d, &a) in self.trace_dofs.iter().zip(&self.trace_area) {
-            t.push(Triplet::new(d, d, k * a));
+        for ((&d, &a), &s) in self
+            .trace_dofs
+            .iter()
+            .zip(&self.trace_area)
+            .zip(&self.trace_k)
+        {
+            t.push(Triplet::new(d, d, k * s * a));
         }
         t
     }

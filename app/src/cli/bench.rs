@@ -45,6 +45,7 @@ pub fn bench(args: &BenchArgs) -> anyhow::Result<ExitCode> {
             k: None,
             mu: None,
             rho_inf: None,
+            directions: None,
             refine,
             split: 1,
             window: None,

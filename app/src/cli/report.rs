@@ -100,6 +100,7 @@ pub struct LatinSettings {
     pub window: Option<usize>,
     #[serde(rename = "macro")]
     pub two_scale: bool,
+    pub directions: lopin_core::search_direction::Directions,
 }
 
 /// Everything a run reports.
@@ -144,6 +145,7 @@ impl<'a> RunReport<'a> {
                     max_iter: set.max_iter,
                     window: set.window,
                     two_scale: set.two_scale,
+                    directions: set.directions,
                 },
             },
             factorizations: self.solver.factors().len(),

@@ -6,7 +6,12 @@ use clap::Args;
 use lopin_core::counters::Instant;
 use lopin_core::estimate::Estimate;
 use lopin_core::scene::admission::{admit, Footprint, SolveShape};
+use lopin_core::search_direction::Directions;
 use lopin_core::{scene, LopinError, Parameter, Problem, Settings, Solver};
+
+fn parse_directions(s: &str) -> Result<Directions, String> {
+    Directions::parse(s)
+}
 
 /// Options shared by the commands that solve a scene.
 #[derive(Debug, Clone, Args)]
@@ -30,6 +35,11 @@ pub struct SceneArgs {
     /// `solver.rho_inf`, else 1).
     #[arg(long = "rho-inf", allow_hyphen_values = true)]
     pub rho_inf: Option<f64>,
+    /// Shape of the search direction: `isotropic` (the scalar k on every dof) or `wave` (the
+    /// P-wave impedance along the interface normal, the S-wave impedance across it; default:
+    /// the scene's `solver.directions`, else isotropic).
+    #[arg(long, value_parser = parse_directions)]
+    pub directions: Option<Directions>,
     /// Multiply the mesh divisions by K.
     #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     pub refine: usize,
@@ -199,6 +209,9 @@ pub fn build(args: &SceneArgs) -> anyhow::Result<Built> {
     }
     if let Some(v) = args.two_scale {
         settings.two_scale = v == Switch::On;
+    }
+    if let Some(v) = args.directions {
+        settings.directions = v;
     }
     Ok(Built {
         spec,

@@ -79,6 +79,10 @@ pub struct SolverSpec {
     /// rule; smaller damps the highest frequencies, [`crate::time_scheme`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rho_inf: Option<f64>,
+    /// Shape of the search direction, `isotropic` (the scalar k) or `wave` (ρc_p normal, ρc_s
+    /// tangential; [`crate::search_direction`]); absent: isotropic.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub directions: Option<crate::search_direction::Directions>,
     /// Two-scale linear stage with the macro problem of METHOD §9 (absent: off).
     #[serde(default, rename = "macro", skip_serializing_if = "Option::is_none")]
     pub two_scale: Option<bool>,

@@ -4,6 +4,7 @@
 use crate::error::{LopinError, Result};
 use crate::problem::Problem;
 use crate::scene::spec::SolverSpec;
+use crate::search_direction::Directions;
 
 /// Solver settings (METHOD §10 defaults: k = mean √(ρE), μ = 0.8, tol = 1e-3).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -34,6 +35,10 @@ pub struct Settings {
     /// time step (false: the single-scale linear stage of METHOD §4).
     #[serde(default, rename = "macro")]
     pub two_scale: bool,
+    /// Shape of the search direction: the scalar k, or matched to the P and S waves
+    /// ([`crate::search_direction`]). Changing it refactorizes.
+    #[serde(default)]
+    pub directions: Directions,
 }
 
 impl Settings {
@@ -52,6 +57,7 @@ impl Settings {
             hold_window_start: true,
             per_step_window_norm: true,
             two_scale: spec.two_scale.unwrap_or(false),
+            directions: spec.directions.unwrap_or_default(),
         }
     }
 
