@@ -8,6 +8,7 @@
 mod readers;
 
 use lopin_app::record::entity_name;
+use lopin_core::window_choice::{choose, Task, WindowRequest};
 use lopin_core::{hex8, post, scene, Settings, Solver};
 use readers::{free_port, lopin, read_rrd, read_vtu, scratch};
 
@@ -15,7 +16,9 @@ use readers::{free_port, lopin, read_rrd, read_vtu, scratch};
 fn reference() -> (Solver, Vec<Vec<post::SubFields>>) {
     let spec = scene::load("two-blocks").expect("scene");
     let problem = scene::build::build(&spec, "two-blocks").expect("builds");
-    let settings = Settings::for_problem(&problem, &spec.solver);
+    let mut settings = Settings::for_problem(&problem, &spec.solver);
+    // the windows `lopin run` chooses for one cold solve
+    settings.window = choose(Task::Single, WindowRequest::Auto, spec.solver.window).window;
     let mut solver = Solver::new(problem, settings).expect("factorizes");
     let sol = solver.solve(None).expect("solves");
     let history = post::history(&solver, &sol);

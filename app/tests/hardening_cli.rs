@@ -215,3 +215,35 @@ fn unknown_search_direction() {
     let json: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
     assert_eq!(json["settings"]["directions"], "wave");
 }
+
+/// With no `--window`, one cold solve runs on one-step windows and says why; `--window whole`
+/// and a number are obeyed and reported as asked for; anything else is refused naming what is
+/// accepted.
+#[test]
+fn windows_are_chosen_for_the_task_and_reported() {
+    let settings = |args: &[&str]| {
+        let (out, _) = lopin(args, &[]);
+        assert!(out.status.success(), "{args:?}");
+        let json: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+        json["settings"].clone()
+    };
+    let auto = settings(&["run", "two-blocks", "--json"]);
+    assert_eq!(auto["window"], 1);
+    assert!(
+        auto["window_reason"]
+            .as_str()
+            .is_some_and(|r| r.starts_with("auto: one cold solve")),
+        "{auto}"
+    );
+    let whole = settings(&["run", "two-blocks", "--window", "whole", "--json"]);
+    assert!(whole["window"].is_null() && whole["window_reason"] == "asked for");
+    assert_eq!(
+        settings(&["run", "bar", "--window", "4", "--json"])["window"],
+        4
+    );
+    let err = refused(&["run", "bar", "--window", "half"], &[]);
+    assert!(
+        err.contains("--window") && err.contains("`whole` or `auto`"),
+        "{err}"
+    );
+}

@@ -61,6 +61,7 @@ pub mod substructure;
 pub mod sweep;
 pub mod time_function;
 pub mod time_scheme;
+pub mod window_choice;
 
 pub use error::{LopinError, Result};
 pub use parameter::Parameter;

@@ -119,6 +119,7 @@ pub fn accuracy(args: &AccuracyArgs) -> anyhow::Result<ExitCode> {
     for &tol in &tols {
         let settings = Settings {
             tol,
+            window: None,
             max_iter: 100_000,
             ..built.settings
         };

@@ -6,6 +6,7 @@ use std::process::ExitCode;
 
 use clap::Args;
 use lopin_core::counters::Instant;
+use lopin_core::window_choice::{Task, WindowRequest};
 
 use super::report::column_table;
 use super::setup::{prepare, SceneArgs};
@@ -48,7 +49,8 @@ pub fn bench(args: &BenchArgs) -> anyhow::Result<ExitCode> {
             directions: None,
             refine,
             split: 1,
-            window: None,
+            window: Some(WindowRequest::Whole),
+            task: Task::Single,
             max_iter: Some(args.iterations),
             two_scale: None,
         };

@@ -33,7 +33,8 @@ pub fn compare_cmd(args: &CompareArgs) -> anyhow::Result<ExitCode> {
     let solution = solver.solve(None)?;
     let latin_s = built.build_s + start.elapsed().as_secs_f64();
     let summary = post::summary(&solver, &solution);
-    let latin = RunReport::new(&built.spec, &solver, &solution, &summary, latin_s);
+    let latin = RunReport::new(&built.spec, &solver, &solution, &summary, latin_s)
+        .with_windows(&built.windows);
     let reference = ReferenceRun::solve(built.spec.name.clone(), built.problem, built.build_s)?;
     let c = compare(
         &solver,

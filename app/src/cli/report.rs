@@ -6,6 +6,7 @@
 use comfy_table::{presets, CellAlignment, Table};
 use lopin_core::post::Summary;
 use lopin_core::scene::SceneSpec;
+use lopin_core::window_choice::WindowChoice;
 use lopin_core::{Solution, Solver};
 use serde::Serialize;
 
@@ -85,13 +86,13 @@ impl From<&Summary> for Contact {
 }
 
 /// What only a LATIN report holds.
-#[derive(Debug, Clone, Copy, Serialize)]
+#[derive(Debug, Clone, Serialize)]
 pub struct Latin {
     pub settings: LatinSettings,
 }
 
 /// The LATIN settings of a report.
-#[derive(Debug, Clone, Copy, Serialize)]
+#[derive(Debug, Clone, Serialize)]
 pub struct LatinSettings {
     pub k: f64,
     pub mu: f64,
@@ -101,6 +102,9 @@ pub struct LatinSettings {
     #[serde(rename = "macro")]
     pub two_scale: bool,
     pub directions: lopin_core::search_direction::Directions,
+    /// Why these windows (absent where the command set them itself).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub window_reason: Option<String>,
 }
 
 /// Everything a run reports.
@@ -110,6 +114,7 @@ pub struct RunReport<'a> {
     solution: &'a Solution,
     summary: &'a Summary,
     wall_s: f64,
+    windows: Option<&'a WindowChoice>,
 }
 
 impl<'a> RunReport<'a> {
@@ -126,7 +131,14 @@ impl<'a> RunReport<'a> {
             solution,
             summary,
             wall_s,
+            windows: None,
         }
+    }
+
+    /// Says in the report why the solve ran on these windows.
+    pub fn with_windows(mut self, windows: &'a WindowChoice) -> Self {
+        self.windows = Some(windows);
+        self
     }
 
     /// The `--json` object.
@@ -146,6 +158,7 @@ impl<'a> RunReport<'a> {
                     window: set.window,
                     two_scale: set.two_scale,
                     directions: set.directions,
+                    window_reason: self.windows.map(|w| w.reason.clone()),
                 },
             },
             factorizations: self.solver.factors().len(),
@@ -191,8 +204,12 @@ impl<'a> RunReport<'a> {
         );
         rows.row(
             "window",
-            set.window
-                .map_or("whole interval".to_string(), |w| format!("{w} steps")),
+            match self.windows {
+                Some(w) => w.to_string(),
+                None => set
+                    .window
+                    .map_or("whole interval".to_string(), |w| format!("{w} steps")),
+            },
         );
         rows.row(
             "linear stage",

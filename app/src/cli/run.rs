@@ -126,7 +126,8 @@ pub fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         r.write(dir)?;
     }
 
-    let report = RunReport::new(spec, solver, &solution, &summary, solve_wall);
+    let report = RunReport::new(spec, solver, &solution, &summary, solve_wall)
+        .with_windows(&prepared.windows);
     if args.json {
         let json = RunJson {
             report: report.report(),

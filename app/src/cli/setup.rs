@@ -7,6 +7,7 @@ use lopin_core::counters::Instant;
 use lopin_core::estimate::Estimate;
 use lopin_core::scene::admission::{admit, Footprint, SolveShape};
 use lopin_core::search_direction::Directions;
+use lopin_core::window_choice::{choose, Task, WindowChoice, WindowRequest};
 use lopin_core::{scene, LopinError, Parameter, Problem, Settings, Solver};
 
 fn parse_directions(s: &str) -> Result<Directions, String> {
@@ -46,9 +47,14 @@ pub struct SceneArgs {
     /// Multiply the number of substructures per body by N (along the scene's split axes).
     #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     pub split: usize,
-    /// Time-window length in steps (1 = incremental; default: whole interval).
-    #[arg(long, allow_negative_numbers = true)]
-    pub window: Option<usize>,
+    /// Time windows: a length in steps (1 = incremental), `whole` (the whole interval) or `auto`
+    /// (the default: the scene's `solver.window`, else chosen for the command: one-step windows
+    /// for one cold solve, the whole interval for a warm-started sweep; the report says which).
+    #[arg(long, allow_negative_numbers = true, value_parser = WindowRequest::parse)]
+    pub window: Option<WindowRequest>,
+    /// What the solve is for (set by the command, not an option).
+    #[arg(skip)]
+    pub task: Task,
     /// Iteration limit (per window).
     #[arg(long, allow_negative_numbers = true)]
     pub max_iter: Option<usize>,
@@ -59,13 +65,28 @@ pub struct SceneArgs {
 }
 
 impl SceneArgs {
+    /// The time windows of the solve and why ([`choose`]).
+    pub fn windows(&self, spec: &scene::SceneSpec) -> WindowChoice {
+        choose(
+            self.task,
+            self.window.unwrap_or_default(),
+            spec.solver.window,
+        )
+    }
+
+    /// These options for another task (a sweep's solves are a warm-started study).
+    pub fn for_task(&self, task: Task) -> Self {
+        Self {
+            task,
+            ..self.clone()
+        }
+    }
+
     /// How the solve will run, as far as memory is concerned: the options, else the scene's
     /// `[solver]` table.
     pub fn shape(&self, spec: &scene::SceneSpec) -> SolveShape {
         let mut shape = SolveShape::of_scene(spec);
-        if let Some(w) = self.window {
-            shape.window = Some(w);
-        }
+        shape.window = self.windows(spec).window;
         if let Some(s) = self.two_scale {
             shape.two_scale = s == Switch::On;
         }
@@ -85,12 +106,16 @@ pub enum Switch {
 /// A ready solver and the resolved scene.
 pub struct Prepared {
     pub spec: scene::SceneSpec,
+    /// The time windows chosen and why.
+    pub windows: WindowChoice,
     pub solver: Solver,
 }
 
 /// A built problem, its resolved scene and the LATIN settings the options ask for.
 pub struct Built {
     pub spec: scene::SceneSpec,
+    /// The time windows chosen and why.
+    pub windows: WindowChoice,
     /// The sizes and memory of the solve, counted from the scene before building it.
     pub footprint: Footprint,
     pub problem: Problem,
@@ -201,9 +226,8 @@ pub fn build(args: &SceneArgs) -> anyhow::Result<Built> {
     if let Some(v) = args.mu {
         settings.mu = v;
     }
-    if let Some(v) = args.window {
-        settings.window = Some(v);
-    }
+    let windows = args.windows(&spec);
+    settings.window = windows.window;
     if let Some(v) = args.max_iter {
         settings.max_iter = v;
     }
@@ -215,6 +239,7 @@ pub fn build(args: &SceneArgs) -> anyhow::Result<Built> {
     }
     Ok(Built {
         spec,
+        windows,
         footprint,
         problem,
         settings,
@@ -244,6 +269,7 @@ pub fn prepare(args: &SceneArgs) -> anyhow::Result<Prepared> {
     }
     Ok(Prepared {
         spec: built.spec,
+        windows: built.windows,
         solver,
     })
 }

@@ -9,10 +9,11 @@ use crate::error::Result;
 use crate::scene::{from_toml, SceneSpec};
 
 /// Names of the built-in scenes, in display order.
-pub const SCENES: [&str; 6] = [
+pub const SCENES: [&str; 7] = [
     "bar",
     "bar-bimaterial",
     "two-blocks",
+    "two-blocks-ramp",
     "gap-impact",
     "granular-small",
     "granular-paper",
@@ -37,6 +38,7 @@ pub fn source(name: &str) -> Option<&'static str> {
         "bar" => include_str!("../../../assets/scenes/bar.toml"),
         "bar-bimaterial" => include_str!("../../../assets/scenes/bar-bimaterial.toml"),
         "two-blocks" => include_str!("../../../assets/scenes/two-blocks.toml"),
+        "two-blocks-ramp" => include_str!("../../../assets/scenes/two-blocks-ramp.toml"),
         "gap-impact" => include_str!("../../../assets/scenes/gap-impact.toml"),
         "granular-small" => include_str!("../../../assets/scenes/granular-small.toml"),
         "granular-paper" => include_str!("../../../assets/scenes/granular-paper.toml"),

@@ -17,6 +17,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::Args;
+use lopin_core::window_choice::Task;
 
 use super::outputs::RerunArgs;
 use super::setup::{prepare, SceneArgs};
@@ -59,7 +60,7 @@ pub struct SweepArgs {
 }
 
 pub fn sweep(args: &SweepArgs) -> anyhow::Result<ExitCode> {
-    let mut prepared = prepare(&args.scene)?;
+    let mut prepared = prepare(&args.scene.for_task(Task::Study))?;
     let plan = Plan::new(args, &mut prepared)?;
     let store = Store::open(&plan.dir, &plan.header, &args.scene.scene, args.resume)?;
     let resumed = store.verify(plan.values.len(), prepared.solver.problem());
