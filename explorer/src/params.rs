@@ -1,9 +1,12 @@
 //! The parameters the explorer lets the user move: the contact interfaces' friction coefficient
 //! and initial gap, the amplitude of the prescribed impact velocity (METHOD §5 laws), and the
-//! LATIN settings k, μ, tolerance and the macro problem switch (METHOD §3, §7, §9). Applying them
-//! never refactorizes unless k changes (the macro problem is built the first time it is switched
-//! on, and again after a change of k).
+//! LATIN settings k, μ, tolerance, the macro problem switch, the time scheme's ρ∞ and the shape of
+//! the search direction (METHOD §2, §3, §7, §9). Applying them never refactorizes unless k, ρ∞ or
+//! the direction shape changes (the macro problem is built the first time it is switched on, and
+//! again after such a change).
 
+use lopin_core::search_direction::Directions;
+use lopin_core::time_scheme::TimeScheme;
 use lopin_core::{Parameter, Problem, Settings, Solver};
 
 /// One set of parameter values.
@@ -23,6 +26,10 @@ pub struct Params {
     pub tol: f64,
     /// Two-scale linear stage with the macro problem (METHOD §9).
     pub two_scale: bool,
+    /// Spectral radius at infinite frequency of the time scheme (1: the trapezoidal rule).
+    pub rho_inf: f64,
+    /// Wave-matched search direction (ρc_p normal, ρc_s tangential) instead of the scalar k.
+    pub wave: bool,
 }
 
 impl Params {
@@ -36,6 +43,8 @@ impl Params {
             mu: settings.mu,
             tol: settings.tol,
             two_scale: settings.two_scale,
+            rho_inf: problem.scheme.rho_inf,
+            wave: settings.directions == Directions::Wave,
         }
     }
 
@@ -57,6 +66,12 @@ impl Params {
         settings.mu = self.mu;
         settings.tol = self.tol;
         settings.two_scale = self.two_scale;
+        settings.directions = if self.wave {
+            Directions::Wave
+        } else {
+            Directions::Isotropic
+        };
+        solver.set_scheme(TimeScheme::new(self.rho_inf))?;
         solver.set_settings(settings)?;
         for p in Parameter::ALL {
             if let Some(v) = self.get(p).filter(|&v| Some(v) != before.get(p)) {
@@ -86,6 +101,15 @@ impl Params {
             parts.push(format!(
                 "macro {}",
                 if self.two_scale { "on" } else { "off" }
+            ));
+        }
+        if self.rho_inf != before.rho_inf {
+            parts.push(format!("ρ∞ = {:.2}", self.rho_inf));
+        }
+        if self.wave != before.wave {
+            parts.push(format!(
+                "{} direction",
+                if self.wave { "wave" } else { "scalar" }
             ));
         }
         if self.tol != before.tol {

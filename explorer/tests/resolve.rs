@@ -204,3 +204,43 @@ fn the_browser_s_inline_worker_gives_the_thread_s_iterates_bit_for_bit() {
         }
     }
 }
+
+/// ρ∞ and the wave-matched direction set in the panel reach the solver: a cold solve asked for
+/// with them takes exactly the iterations of the engine built with them (ρ∞ = 0.5 and the wave
+/// direction iterate differently from the defaults), and moving ρ∞ back re-solves warm to η < tol.
+#[test]
+fn the_scheme_and_direction_controls_reach_the_solver() {
+    let (problem, mut settings) = two_blocks();
+    settings.tol = 1e-4;
+    let mut engine_problem = problem.clone();
+    engine_problem.scheme = lopin_core::time_scheme::TimeScheme::new(0.5);
+    let mut engine_settings = settings;
+    engine_settings.directions = lopin_core::search_direction::Directions::Wave;
+    let engine = Solver::new(engine_problem, engine_settings)
+        .expect("engine")
+        .solve(None)
+        .expect("engine solve");
+    let default = Solver::new(problem.clone(), settings)
+        .expect("default")
+        .solve(None)
+        .expect("default solve");
+    assert_ne!(engine.iterations, default.iterations);
+
+    let mut worker = threaded(problem.clone(), settings);
+    let mut params = Params::of(&problem, &settings);
+    assert_eq!((params.rho_inf, params.wave), (1.0, false));
+    params.rho_inf = 0.5;
+    params.wave = true;
+    let g = worker.solve(params.clone());
+    let r = finish(&mut worker, g, &mut Vec::new());
+    assert!(r.converged && !r.warm, "{r:?}");
+    assert_eq!(r.iterations, engine.iterations);
+
+    params.rho_inf = 1.0;
+    let g = worker.solve(params.clone());
+    let r = finish(&mut worker, g, &mut Vec::new());
+    assert!(
+        r.converged && r.warm && r.eta < settings.tol && r.iterations > 0,
+        "{r:?}"
+    );
+}
