@@ -18,7 +18,14 @@ fn reference() -> (Solver, Vec<Vec<post::SubFields>>) {
     let problem = scene::build::build(&spec, "two-blocks").expect("builds");
     let mut settings = Settings::for_problem(&problem, &spec.solver);
     // the windows `lopin run` chooses for one cold solve
-    settings.window = choose(Task::Single, WindowRequest::Auto, spec.solver.window).window;
+    let contact = spec.has_contact();
+    settings.window = choose(
+        Task::Single,
+        WindowRequest::Auto,
+        spec.solver.window,
+        contact,
+    )
+    .window;
     let mut solver = Solver::new(problem, settings).expect("factorizes");
     let sol = solver.solve(None).expect("solves");
     let history = post::history(&solver, &sol);

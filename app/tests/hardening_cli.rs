@@ -216,7 +216,8 @@ fn unknown_search_direction() {
     assert_eq!(json["settings"]["directions"], "wave");
 }
 
-/// With no `--window`, one cold solve runs on one-step windows and says why; `--window whole`
+/// With no `--window`, one cold solve of a scene with contact runs on one-step windows and one
+/// without contact on the whole interval, saying why; `--window whole`
 /// and a number are obeyed and reported as asked for; anything else is refused naming what is
 /// accepted.
 #[test]
@@ -232,9 +233,11 @@ fn windows_are_chosen_for_the_task_and_reported() {
     assert!(
         auto["window_reason"]
             .as_str()
-            .is_some_and(|r| r.starts_with("auto: one cold solve")),
+            .is_some_and(|r| r.starts_with("auto: one cold solve with contact")),
         "{auto}"
     );
+    let no_contact = settings(&["run", "bar", "--json"]);
+    assert!(no_contact["window"].is_null(), "{no_contact}");
     let whole = settings(&["run", "two-blocks", "--window", "whole", "--json"]);
     assert!(whole["window"].is_null() && whole["window_reason"] == "asked for");
     assert_eq!(

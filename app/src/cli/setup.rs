@@ -71,6 +71,7 @@ impl SceneArgs {
             self.task,
             self.window.unwrap_or_default(),
             spec.solver.window,
+            spec.has_contact(),
         )
     }
 

@@ -284,6 +284,16 @@ impl SceneSpec {
         Ok(())
     }
 
+    /// Whether the scene asks for contact interfaces (a contact override, or the grains of a
+    /// granular scene).
+    pub fn has_contact(&self) -> bool {
+        self.granular.as_ref().is_some_and(|g| g.grains > 0)
+            || self
+                .interfaces
+                .iter()
+                .any(|i| i.kind == InterfaceKind::Contact)
+    }
+
     /// Sets the friction coefficient of every contact override (and of the grain/matrix
     /// contacts of a granular scene).
     pub fn set_friction(&mut self, f: f64) {
