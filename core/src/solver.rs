@@ -141,13 +141,13 @@ impl Solver {
         }
         let start = Instant::now();
         let previous = self.problem.scheme;
+        // refactorizing leaves the single-scale stage: note the switch before it does
+        let two_scale = self.settings.two_scale;
         self.problem.scheme = scheme;
         if let Err(e) = self.refactorize(self.settings.k) {
             self.problem.scheme = previous;
             return Err(e);
         }
-        let two_scale = self.settings.two_scale;
-        self.settings.two_scale = false;
         self.set_scale(two_scale, self.settings.k)?;
         self.settings.two_scale = two_scale;
         self.counters.setup_s += start.elapsed().as_secs_f64();

@@ -139,3 +139,24 @@ fn rho_inf_out_of_range_is_a_clear_error() {
     assert!(err.contains("rho_inf"), "{err}");
     assert_eq!(solver.problem().scheme, TimeScheme::new(0.8));
 }
+
+/// Changing the scheme of a two-scale solver keeps it two-scale: the macro problem is rebuilt on
+/// the new factorizations, and the two-scale solve iterates exactly as a two-scale solver built
+/// with that scheme.
+#[test]
+fn a_scheme_change_keeps_the_two_scale_stage() {
+    let mut spec = scene::load("two-blocks").expect("scene");
+    spec.split(2).expect("split");
+    let mut built = solver_for(&spec, 0.5, 1e-4);
+    let mut set = *built.settings();
+    set.two_scale = true;
+    built.set_settings(set).expect("two-scale");
+    let want = built.solve(None).expect("built with ρ∞ = 0.5");
+    let mut switched = solver_for(&spec, 1.0, 1e-4);
+    switched.set_settings(set).expect("two-scale");
+    switched.set_scheme(TimeScheme::new(0.5)).expect("scheme");
+    assert!(switched.settings().two_scale && switched.macro_problem().is_some());
+    let got = switched.solve(None).expect("switched to ρ∞ = 0.5");
+    assert!(got.converged);
+    assert_eq!((got.iterations, got.eta), (want.iterations, want.eta));
+}
