@@ -167,6 +167,13 @@ pub fn admitted(args: &SceneArgs) -> anyhow::Result<Admitted> {
             .map_err(|_| anyhow::anyhow!("--f must be a non-negative number, got {f}"))?;
         spec.set_friction(f);
     }
+    // into the scene, so that run.json, `lopin export` and a sweep's resume check carry it
+    if let Some(r) = args.rho_inf {
+        lopin_core::time_scheme::TimeScheme::new(r)
+            .check()
+            .map_err(|reason| anyhow::anyhow!("--rho-inf {r}: {reason}"))?;
+        spec.solver.rho_inf = Some(r);
+    }
     Ok(Admitted {
         spec,
         source,
@@ -209,14 +216,7 @@ pub fn build(args: &SceneArgs) -> anyhow::Result<Built> {
         source,
         footprint,
     } = admitted(args)?;
-    let mut problem = scene::build::build(&spec, &source)?;
-    if let Some(r) = args.rho_inf {
-        let scheme = lopin_core::time_scheme::TimeScheme::new(r);
-        scheme
-            .check()
-            .map_err(|reason| anyhow::anyhow!("--rho-inf {r}: {reason}"))?;
-        problem.scheme = scheme;
-    }
+    let problem = scene::build::build(&spec, &source)?;
     let mut settings = Settings::for_problem(&problem, &spec.solver);
     if let Some(v) = args.tol {
         settings.tol = v;
