@@ -211,7 +211,6 @@ pub fn assemble_traces(subs: &mut [Substructure], interfaces: &mut [Interface]) 
     for s in subs.iter_mut() {
         s.trace_dofs.clear();
         s.trace_area.clear();
-        s.trace_k.clear();
         s.sides.clear();
     }
     for (i, iface) in interfaces.iter_mut().enumerate() {
@@ -231,7 +230,6 @@ pub fn assemble_traces(subs: &mut [Substructure], interfaces: &mut [Interface]) 
                     for (j, (&n, law)) in side.nodes.iter().zip(laws).enumerate() {
                         sub.trace_dofs.push(3 * n + law.component);
                         sub.trace_area.push(iface.area[j]);
-                        sub.trace_k.push(iface.k_scale[j]);
                     }
                 }
                 None => {
@@ -239,11 +237,24 @@ pub fn assemble_traces(subs: &mut [Substructure], interfaces: &mut [Interface]) 
                         for c in 0..3 {
                             sub.trace_dofs.push(3 * n + c);
                             sub.trace_area.push(iface.area[3 * j + c]);
-                            sub.trace_k.push(iface.k_scale[3 * j + c]);
                         }
                     }
                 }
             }
+        }
+    }
+    copy_trace_k(subs, interfaces);
+}
+
+/// Copies every interface's search direction factors into its sides' slices of the
+/// substructure traces ([`crate::search_direction`]).
+pub fn copy_trace_k(subs: &mut [Substructure], interfaces: &[Interface]) {
+    for sub in subs.iter_mut() {
+        sub.trace_k = vec![1.0; sub.trace_len()];
+        for side in &sub.sides {
+            let iface = &interfaces[side.interface];
+            let off = iface.sides[side.side].offset;
+            sub.trace_k[off..off + iface.len].copy_from_slice(&iface.k_scale);
         }
     }
 }

@@ -98,36 +98,38 @@ fn components(iface: &Interface) -> Vec<usize> {
 
 /// Sets the direction factors of every interface and copies them to the substructures' traces.
 pub fn apply(problem: &mut Problem, directions: Directions) {
-    let k0 = problem.default_k();
-    let scales: Vec<Vec<f64>> = problem
-        .interfaces
-        .iter()
-        .map(|iface| match (directions, normal_axis(problem, iface)) {
-            (Directions::Wave, Some(axis)) => {
-                let sides = iface.sides.len() as f64;
-                let (zp, zs) = iface.sides.iter().fold((0.0, 0.0), |(p, s), side| {
-                    let (a, b) = impedances(&problem.subs[side.sub].material);
-                    (p + a / sides, s + b / sides)
-                });
-                components(iface)
-                    .into_iter()
-                    .map(|c| if c == axis { zp / k0 } else { zs / k0 })
-                    .collect()
-            }
-            _ => vec![1.0; iface.len],
-        })
-        .collect();
-    for (iface, s) in problem.interfaces.iter_mut().zip(scales) {
-        iface.k_scale = s;
-    }
-    for sub in &mut problem.subs {
-        sub.trace_k = vec![1.0; sub.trace_len()];
-        for side in &sub.sides {
-            let iface = &problem.interfaces[side.interface];
-            let off = iface.sides[side.side].offset;
-            sub.trace_k[off..off + iface.len].copy_from_slice(&iface.k_scale);
+    let scales: Vec<Option<Vec<f64>>> = match directions {
+        Directions::Isotropic => vec![None; problem.interfaces.len()],
+        Directions::Wave => {
+            let k0 = problem.default_k();
+            let p = &*problem;
+            p.interfaces
+                .iter()
+                .map(|i| wave_factors(p, i, k0))
+                .collect()
         }
+    };
+    for (iface, s) in problem.interfaces.iter_mut().zip(scales) {
+        iface.k_scale = s.unwrap_or_else(|| vec![1.0; iface.len]);
     }
+    crate::detect::copy_trace_k(&mut problem.subs, &problem.interfaces);
+}
+
+/// The wave factors of one interface (ρc_p/k0 on the normal dof, ρc_s/k0 on the others, each the
+/// mean over the sides' materials), or None when its normal is not a coordinate axis.
+fn wave_factors(problem: &Problem, iface: &Interface, k0: f64) -> Option<Vec<f64>> {
+    let axis = normal_axis(problem, iface)?;
+    let sides = iface.sides.len() as f64;
+    let (zp, zs) = iface.sides.iter().fold((0.0, 0.0), |(p, s), side| {
+        let (a, b) = impedances(&problem.subs[side.sub].material);
+        (p + a / sides, s + b / sides)
+    });
+    Some(
+        components(iface)
+            .into_iter()
+            .map(|c| if c == axis { zp / k0 } else { zs / k0 })
+            .collect(),
+    )
 }
 
 #[cfg(test)]

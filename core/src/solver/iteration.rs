@@ -328,14 +328,14 @@ impl SolveRun {
         relax(&mut self.s, &self.s_new, mu, (self.m0, self.m1));
     }
 
-    /// Stage 5, end of window (METHOD §7): unless η < tol, or η is not finite, or the window's
-    /// iteration limit is reached, the window goes on. Otherwise its end states (substructures
+    /// Stage 5, end of window (METHOD §7): unless η < tol or the window's iteration limit is
+    /// reached, the window goes on (a non-finite η has ended the solve before this stage). Otherwise its end states (substructures
     /// from the last linear stage, contacts from the last local stage) start the next window, a
     /// cold next window starts from the last converged step held constant, and an unconverged
     /// window ends the solve. Returns whether the solve has ended.
     pub(crate) fn end_of_window(&mut self, linear: &LinearStage, settings: &Settings) -> bool {
         let window_converged = self.eta < settings.tol;
-        if !window_converged && self.eta.is_finite() && self.it < settings.max_iter {
+        if !window_converged && self.it < settings.max_iter {
             return false;
         }
         for (i, st) in self.sub_states.iter_mut().enumerate() {

@@ -5,6 +5,8 @@
 //! the inertia acceleration ā_m = (1 − α_m) a_m + α_m a_{m−1} of the scheme: a_m for the
 //! trapezoidal rule).
 
+use std::borrow::Cow;
+
 use super::{MonoSolution, Monolithic};
 use lopin_core::histories::{ContactHistory, EnergyHistory, Summary};
 use lopin_core::interface::Law;
@@ -13,10 +15,10 @@ use lopin_core::mesh::{dot, Vec3};
 impl Monolithic {
     /// The acceleration the equation of motion of step m holds: ā_m = (1 − α_m) a_m + α_m a_{m−1}
     /// (a_m for the trapezoidal rule and at m = 0).
-    fn inertia_acceleration(&self, sol: &MonoSolution, m: usize) -> Vec<f64> {
+    fn inertia_acceleration<'s>(&self, sol: &'s MonoSolution, m: usize) -> Cow<'s, [f64]> {
         let alpha_m = self.problem.scheme.parameters().0;
         if m == 0 || self.problem.scheme.is_trapezoidal() {
-            return sol.a[m].clone();
+            return Cow::Borrowed(&sol.a[m]);
         }
         sol.a[m]
             .iter()
@@ -143,6 +145,7 @@ impl Monolithic {
 
     /// Total interface force on every dof of every substructure at step m: M_E ā_E + K_E u_E.
     pub fn sub_forces(&self, sol: &MonoSolution, m: usize) -> Vec<Vec<f64>> {
+        let inertia = self.inertia_acceleration(sol, m);
         self.problem
             .subs
             .iter()
@@ -152,10 +155,7 @@ impl Monolithic {
                 let gather = |x: &[f64]| -> Vec<f64> {
                     (0..nd).map(|d| x[self.asm.numbering.dof(s, d)]).collect()
                 };
-                let (u, a) = (
-                    gather(&sol.u[m]),
-                    gather(&self.inertia_acceleration(sol, m)),
-                );
+                let (u, a) = (gather(&sol.u[m]), gather(&inertia));
                 let mut f = vec![0.0; nd];
                 sub.stiffness.mul_into(&u, &mut f);
                 for d in 0..nd {
