@@ -258,10 +258,21 @@ fn a_damped_run_exports_again() {
     let dir = std::env::temp_dir().join(format!("lopin-rho-inf-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     let (run_dir, vtu) = (dir.join("run"), dir.join("vtu"));
-    let (run_dir, vtu) = (run_dir.to_str().expect("utf-8"), vtu.to_str().expect("utf-8"));
+    let (run_dir, vtu) = (
+        run_dir.to_str().expect("utf-8"),
+        vtu.to_str().expect("utf-8"),
+    );
     let (out, _) = lopin(&["run", "bar", "--rho-inf", "0.8", "--out", run_dir], &[]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let (out, _) = lopin(&["export", run_dir, "--vtu", vtu], &[]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }

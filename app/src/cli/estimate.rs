@@ -8,11 +8,12 @@
 
 use anyhow::Context;
 use clap::Args;
+use lopin_core::counters::Instant;
 use lopin_core::estimate::Estimate;
 use lopin_core::Solver;
 use serde::Serialize;
 
-use super::setup::{admitted, build, SceneArgs};
+use super::setup::{admitted, build_admitted, SceneArgs};
 
 /// Largest problem measured (built and factorized) without `--measure`.
 pub const MEASURED_DOFS: usize = 200_000;
@@ -33,6 +34,7 @@ pub struct EstimateArgs {
 
 pub fn estimate(args: &EstimateArgs) -> anyhow::Result<std::process::ExitCode> {
     // counted from the scene alone: answers at once however large, refuses what cannot fit
+    let start = Instant::now();
     let counted = admitted(&args.scene)?;
     let fp = counted.footprint;
     if !args.json {
@@ -57,9 +59,10 @@ pub fn estimate(args: &EstimateArgs) -> anyhow::Result<std::process::ExitCode> {
         }
         return Ok(std::process::ExitCode::SUCCESS);
     }
-    let built = build(&args.scene)?;
+    let source = counted.source.clone();
+    let built = build_admitted(&args.scene, counted, start)?;
     let solver = Solver::new(built.problem, built.settings)
-        .with_context(|| format!("{}: setting up the solver", counted.source))?;
+        .with_context(|| format!("{source}: setting up the solver"))?;
     let e = Estimate::of_solver(&solver);
     if args.json {
         let json = EstimateReport {

@@ -211,11 +211,21 @@ fn largest_refine_that_fits(args: &SceneArgs) -> Option<usize> {
 /// Loads and builds the problem and resolves the settings (no factorization).
 pub fn build(args: &SceneArgs) -> anyhow::Result<Built> {
     let start = Instant::now();
-    let Admitted {
+    let admitted = admitted(args)?;
+    build_admitted(args, admitted, start)
+}
+
+/// [`build`] from a scene already loaded and admitted (`estimate` counts it first), timing the
+/// build from `start`.
+pub fn build_admitted(
+    args: &SceneArgs,
+    Admitted {
         spec,
         source,
         footprint,
-    } = admitted(args)?;
+    }: Admitted,
+    start: Instant,
+) -> anyhow::Result<Built> {
     let problem = scene::build::build(&spec, &source)?;
     let mut settings = Settings::for_problem(&problem, &spec.solver);
     if let Some(v) = args.tol {
