@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 readers="$(./scripts/install-readers.sh)"
 mkdir -p out docs
 cargo build --release -q -p lopin
-target/release/lopin run two-blocks --rerun out/two-blocks.rrd >/dev/null
+target/release/lopin run two-blocks --window whole --rerun out/two-blocks.rrd >/dev/null
 scratch="$(mktemp -d)"
 export XDG_CONFIG_HOME="$scratch/config" XDG_DATA_HOME="$scratch/data" XDG_RUNTIME_DIR="$scratch/run"
 mkdir -p "$XDG_RUNTIME_DIR" && chmod 700 "$XDG_RUNTIME_DIR"
