@@ -98,7 +98,7 @@ fn run_writes_vtu_pvd_rerun_and_run_json_that_real_readers_accept() {
         );
         assert_eq!(
             f["point_data"],
-            serde_json::json!(["displacement", "velocity"])
+            serde_json::json!(["displacement", "velocity", "velocity_avg"])
         );
         assert_eq!(
             f["cell_data"],
@@ -121,6 +121,14 @@ fn run_writes_vtu_pvd_rerun_and_run_json_that_real_readers_accept() {
             assert!(
                 close(vel, h.v[3 * node + c], speed_scale),
                 "step {step}: v {vel}"
+            );
+            // the step average (v_m + v_{m−1})/2, v_0 itself at m = 0
+            let before = &history[0][step.saturating_sub(1)];
+            let avg = f["velocity_avg"][c].as_f64().expect("v avg");
+            let expected = 0.5 * (h.v[3 * node + c] + before.v[3 * node + c]);
+            assert!(
+                close(avg, expected, speed_scale),
+                "step {step}: v avg {avg} vs {expected}"
             );
         }
         let stress = post::element_stress(&solver, 0, &h.u)[cell];

@@ -17,6 +17,8 @@ pub struct IterationRecord {
     pub window_end: usize,
     /// Error indicator η after this iteration.
     pub eta: f64,
+    /// The smooth indicator η̄ (step-averaged fields, [`crate::indicator::smooth_sums`]).
+    pub eta_smooth: f64,
     /// Seconds in the local stage.
     pub local_s: f64,
     /// Seconds in the linear stage (macro problem included).

@@ -10,6 +10,90 @@
 //! [`crate::Settings::per_step_window_norm`]), their mean energy per step times the window
 //! length. [`IndicatorSums::add_dof`] is the one place a term is formed; the linear stage calls it
 //! per trace dof and step; [`WindowNorm`] turns the sums into η.
+//!
+//! The smooth indicator η̄ ([`smooth_sums`]) is the same expression on step-averaged fields
+//! x̄_m = (x_m + x_{m−1})/2 of s_new and ŝ. The averages are what moves the displacements
+//! (u_m − u_{m−1} = Δt W̄_m for the trapezoidal rule, METHOD §2) and what the reported contact
+//! forces are (METHOD §5, step-averaged normal force); the alternating mode of the undamped rule,
+//! x_m = (−1)^m c, has x̄ = 0 and so leaves η̄ untouched while it keeps η up (METHOD §10).
+//! [`StopTest`] says which of the two the stopping test reads.
+
+use crate::error::{LopinError, Result};
+use crate::interface::Interface;
+use crate::state::{InterfaceState, TraceHistory};
+
+/// Which indicator ends a window (METHOD §6 stopping test).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum StopTest {
+    /// η on the fields themselves (METHOD §6 as written).
+    #[default]
+    Eta,
+    /// η̄ on step-averaged fields: blind to the alternating mode.
+    Smooth,
+}
+
+impl StopTest {
+    /// Parses `eta` or `smooth`.
+    pub fn parse(name: &str) -> Result<Self> {
+        match name {
+            "eta" => Ok(Self::Eta),
+            "smooth" => Ok(Self::Smooth),
+            _ => Err(LopinError::setting(
+                "stop",
+                format!("unknown stopping test `{name}` (eta, smooth)"),
+            )),
+        }
+    }
+
+    /// Name.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::Eta => "eta",
+            Self::Smooth => "smooth",
+        }
+    }
+}
+
+/// The η̄ sums of steps m0..=m1: the terms of η on the step averages
+/// ((x_m + x_{m−1})/2) of the linear-stage output `s_new` (per substructure trace) and ŝ (per
+/// interface side), with each interface's areas and direction factors k·k_scale. Step m0 − 1
+/// (the initial state, or the last step of the previous window) is read from the same
+/// histories. In parallel over interfaces.
+pub fn smooth_sums(
+    interfaces: &[Interface],
+    k: f64,
+    s_new: &InterfaceState,
+    hats: &[Vec<TraceHistory>],
+    (m0, m1): (usize, usize),
+) -> IndicatorSums {
+    let per_interface = crate::par::map_range(interfaces.len(), |i| {
+        let iface = &interfaces[i];
+        let mut sums = IndicatorSums::default();
+        for (side, hat) in iface.sides.iter().zip(&hats[i]) {
+            let t = &s_new.subs[side.sub];
+            for m in m0.max(1)..=m1 {
+                let (now, prev) = (t.at(m).start + side.offset, t.at(m - 1).start + side.offset);
+                let (hn, hp) = (hat.at(m).start, hat.at(m - 1).start);
+                for j in 0..iface.len {
+                    let avg = |x: &[f64], a: usize, b: usize| 0.5 * (x[a + j] + x[b + j]);
+                    sums.add_dof(
+                        iface.area[j],
+                        k * iface.k_scale[j],
+                        (avg(&t.f, now, prev), avg(&t.w, now, prev)),
+                        (avg(&hat.f, hn, hp), avg(&hat.w, hn, hp)),
+                    );
+                }
+            }
+        }
+        sums
+    });
+    let mut total = IndicatorSums::default();
+    for s in per_interface {
+        total.add(s);
+    }
+    total
+}
 
 /// Numerator and denominator sums of η² (METHOD §6) over some dofs and steps.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -117,6 +201,87 @@ mod tests {
         for (k, a) in [(4.1e7, 1.0), (2.0, 1e-6), (1e-3, 3.0)] {
             assert!((eta(k, a) - base).abs() < 1e-14 * base, "k {k} a {a}");
         }
+    }
+
+    /// One boundary interface of one dof on one substructure, over `steps` steps.
+    fn one_dof(steps: usize) -> (Vec<Interface>, InterfaceState, Vec<Vec<TraceHistory>>) {
+        let iface = Interface {
+            name: "A:x+".into(),
+            sides: vec![crate::interface::Side {
+                sub: 0,
+                offset: 0,
+                nodes: vec![0],
+            }],
+            len: 1,
+            area: vec![2.0],
+            k_scale: vec![1.0],
+            law: crate::interface::Law::Perfect,
+        };
+        let state = InterfaceState {
+            steps,
+            subs: vec![TraceHistory::zeros(1, steps)],
+        };
+        let hats = vec![vec![TraceHistory::zeros(1, steps)]];
+        (vec![iface], state, hats)
+    }
+
+    #[test]
+    fn the_smooth_indicator_is_blind_to_the_alternating_mode() {
+        let steps = 6;
+        let (ifaces, mut s_new, mut hats) = one_dof(steps);
+        // ŝ: a ramp; s_new: the same ramp plus the alternating mode (−1)^m c from m = 1 on
+        // (W₀ is the given initial state, never iterated)
+        for m in 0..=steps {
+            let ramp = m as f64;
+            hats[0][0].w[m] = ramp;
+            hats[0][0].f[m] = 3.0 * ramp;
+            let mode = if m == 0 {
+                0.0
+            } else {
+                0.25 * (-1f64).powi(m as i32)
+            };
+            s_new.subs[0].w[m] = ramp + mode;
+            s_new.subs[0].f[m] = 3.0 * ramp - 3.0 * mode;
+        }
+        // steps 2..=6: every average of the mode vanishes, so η̄ = 0 exactly while η does not
+        let sm = smooth_sums(&ifaces, 3.0, &s_new, &hats, (2, steps));
+        assert_eq!(sm.num, 0.0);
+        assert!(sm.den > 0.0);
+        let mut plain = IndicatorSums::default();
+        for m in 2..=steps {
+            plain.add_dof(
+                2.0,
+                3.0,
+                (s_new.subs[0].f[m], s_new.subs[0].w[m]),
+                (hats[0][0].f[m], hats[0][0].w[m]),
+            );
+        }
+        assert!(plain.eta() > 0.05, "η {}", plain.eta());
+        // a smooth difference is seen by both: s_new = 2 ŝ gives η̄ = η = √(2/5)·… exactly the
+        // expression of add_dof on the averages
+        for m in 0..=steps {
+            s_new.subs[0].w[m] = 2.0 * hats[0][0].w[m];
+            s_new.subs[0].f[m] = 2.0 * hats[0][0].f[m];
+        }
+        let sm = smooth_sums(&ifaces, 3.0, &s_new, &hats, (1, steps));
+        let mut expected = IndicatorSums::default();
+        for m in 1..=steps {
+            let (w, f) = (m as f64 - 0.5, 3.0 * (m as f64 - 0.5));
+            expected.add_dof(2.0, 3.0, (2.0 * f, 2.0 * w), (f, w));
+        }
+        assert!((sm.num - expected.num).abs() <= 1e-12 * expected.num);
+        assert!((sm.den - expected.den).abs() <= 1e-12 * expected.den);
+        // (W − Ŵ)² k + (F − F̂)²/k over ½ (…): for x = 2y, η² = 1 / (½ (1 + 4)/1) → η = √(2/5)
+        assert!((sm.eta() - (0.4f64).sqrt()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn stop_tests_parse_and_name_themselves() {
+        for t in [StopTest::Eta, StopTest::Smooth] {
+            assert_eq!(StopTest::parse(t.name()).ok(), Some(t));
+        }
+        let e = StopTest::parse("fast").expect_err("unknown");
+        assert!(e.to_string().contains("eta, smooth"), "{e}");
     }
 
     #[test]

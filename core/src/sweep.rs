@@ -1,6 +1,10 @@
 //! Multiresolution (METHOD §8): the interface parameters a parametric study can sweep without
 //! refactorizing anything, and the predictors that build the start state of the next value from
-//! the converged states of the previous ones.
+//! the converged states of the previous ones. The smooth predictor extrapolates only the part of
+//! the change that varies slowly in time: the change filtered by the binomial weights
+//! (¼, ½, ¼) over steps m − 1, m, m + 1, which take the alternating content
+//! x_m = (−1)^m c (the highest frequency of the time grid, METHOD §10) to zero and keep affine
+//! content in time unchanged.
 
 use crate::error::{LopinError, Result};
 use crate::state::InterfaceState;
@@ -13,17 +17,21 @@ pub enum Predictor {
     /// Linear extrapolation from the two previous converged states, scaled to the parameter
     /// step: s = s₁ + (p − p₁)/(p₁ − p₀) (s₁ − s₀).
     Linear,
+    /// The linear extrapolation of the time-filtered change only:
+    /// s = s₁ + (p − p₁)/(p₁ − p₀) T(s₁ − s₀), T the (¼, ½, ¼) filter over steps.
+    Smooth,
 }
 
 impl Predictor {
-    /// Parses `previous` or `linear`.
+    /// Parses `previous`, `linear` or `smooth`.
     pub fn parse(name: &str) -> Result<Self> {
         match name {
             "previous" => Ok(Self::Previous),
             "linear" => Ok(Self::Linear),
+            "smooth" => Ok(Self::Smooth),
             _ => Err(LopinError::setting(
                 "predictor",
-                format!("unknown predictor `{name}` (previous, linear)"),
+                format!("unknown predictor `{name}` (previous, linear, smooth)"),
             )),
         }
     }
@@ -33,6 +41,7 @@ impl Predictor {
         match self {
             Self::Previous => "previous",
             Self::Linear => "linear",
+            Self::Smooth => "smooth",
         }
     }
 
@@ -50,15 +59,41 @@ impl Predictor {
         let r = (p - p1) / (p1 - p0);
         let mut s = s1.clone();
         for (h, h0) in s.subs.iter_mut().zip(&s0.subs) {
-            for (x, y) in h.f.iter_mut().zip(&h0.f) {
-                *x += r * (*x - y);
-            }
-            for (x, y) in h.w.iter_mut().zip(&h0.w) {
-                *x += r * (*x - y);
+            let len = h.len;
+            for (x, x0) in [(&mut h.f, &h0.f), (&mut h.w, &h0.w)] {
+                let mut change: Vec<f64> = x.iter().zip(x0).map(|(a, b)| a - b).collect();
+                if *self == Self::Smooth {
+                    change = filter_in_time(&change, len);
+                }
+                for (a, d) in x.iter_mut().zip(&change) {
+                    *a += r * d;
+                }
             }
         }
         Some(s)
     }
+}
+
+/// The (¼, ½, ¼) filter over steps of a step-major history with `len` entries per step, m = 0..=N.
+/// Step 0 (the given initial state) is kept as it is; the last step, with one neighbour, takes
+/// x̃_N = (x_{N−1} + x_N)/2. Histories of fewer than 3 steps are returned unfiltered.
+fn filter_in_time(x: &[f64], len: usize) -> Vec<f64> {
+    let count = x.len().checked_div(len).unwrap_or(0);
+    let mut out = x.to_vec();
+    if count < 3 {
+        return out;
+    }
+    for m in 1..count {
+        for j in 0..len {
+            let at = |k: usize| x[k * len + j];
+            out[m * len + j] = if m + 1 < count {
+                0.25 * at(m - 1) + 0.5 * at(m) + 0.25 * at(m + 1)
+            } else {
+                0.5 * (at(m - 1) + at(m))
+            };
+        }
+    }
+    out
 }
 
 /// Values of a sweep: `a:b:step` (inclusive, rounded to the step) or a list `a,b,c`.
@@ -134,5 +169,54 @@ mod tests {
             .expect("state");
         assert_eq!(q, b);
         assert!(Predictor::Linear.predict(&[], 0.3).is_none());
+    }
+
+    #[test]
+    fn the_smooth_predictor_drops_the_alternating_part_of_the_change() {
+        // change between the two values: a ramp in time plus the alternating mode (−1)^m
+        let steps = 8;
+        let state = |x: f64| InterfaceState {
+            steps,
+            subs: vec![TraceHistory {
+                len: 1,
+                f: (0..=steps).map(|m| x * m as f64).collect(),
+                w: (0..=steps)
+                    .map(|m| {
+                        if m == 0 {
+                            0.0
+                        } else {
+                            x * (m as f64 + (-1f64).powi(m as i32))
+                        }
+                    })
+                    .collect(),
+            }],
+        };
+        let (a, b) = (state(1.0), state(2.0));
+        let p = Predictor::Smooth
+            .predict(&[(1.0, &a), (2.0, &b)], 3.0)
+            .expect("state");
+        let h = &p.subs[0];
+        // F: affine in time, extrapolated exactly inside (the last step's one-sided average
+        // lags half a step)
+        for m in 0..steps {
+            assert!(
+                (h.f[m] - 3.0 * m as f64).abs() < 1e-12,
+                "F at {m}: {}",
+                h.f[m]
+            );
+        }
+        // W: the ramp part extrapolated, the alternating part of the change not (it stays at
+        // the last value's): 2(m + (−1)^m) + (m) for 2 ≤ m ≤ N − 2
+        for m in 2..steps - 1 {
+            let alt = (-1f64).powi(m as i32);
+            let expected = 2.0 * (m as f64 + alt) + m as f64;
+            assert!(
+                (h.w[m] - expected).abs() < 1e-12,
+                "W at {m}: {} vs {expected}",
+                h.w[m]
+            );
+        }
+        assert_eq!(Predictor::parse("smooth").ok(), Some(Predictor::Smooth));
+        assert_eq!(Predictor::Smooth.name(), "smooth");
     }
 }

@@ -7,9 +7,14 @@
 //! averaged (F_m + F_{m−1})/2 (METHOD §2). The sum is what both solvers determine uniquely: where
 //! several conditions hold on one dof (a perfect interface meeting a clamp) the share of each is
 //! not defined, but their total is the substructure's equilibrium M a + K u.
+//!
+//! Beside these, the quantities the undamped rule's alternating mode v_m = (−1)^m c cannot touch
+//! (issue 19; METHOD §10): displacements, step-averaged velocities (v_m + v_{m−1})/2, the total
+//! energy ½vᵀMv + ½uᵀKu per step (the mode carries kinetic energy, so this one sees what of it
+//! is left) and the step-averaged normal force of each contact interface (METHOD §5).
 
 use lopin_core::interface::Law;
-use lopin_core::post::replay;
+use lopin_core::post::{contact, energy, replay};
 use lopin_core::solver::{Solution, Solver};
 
 use crate::monolithic::{MonoSolution, Monolithic};
@@ -25,6 +30,77 @@ pub struct Comparison {
     pub max_velocity: f64,
     /// max |F_ref| (N).
     pub max_force: f64,
+    /// max |u_latin − u_ref| / max |u_ref|.
+    pub rel_diff_displacement: f64,
+    /// max |v̄_latin − v̄_ref| / max |v̄_ref| of the step-averaged velocities.
+    pub rel_diff_velocity_avg: f64,
+    /// max over steps |E_latin − E_ref| / max E_ref of the total (kinetic + strain) energy.
+    pub rel_diff_energy: f64,
+    /// max |N_latin − N_ref| / max |N_ref| of the step-averaged normal force of every contact
+    /// interface (0 without contact).
+    pub rel_diff_contact_force: f64,
+    /// Where the step-averaged force differs most: (substructure, dof, step m).
+    pub worst_force: (usize, usize, usize),
+}
+
+impl Comparison {
+    /// Where the largest step-averaged force difference sits, in words: the substructure, the
+    /// node's position and component, the step and time, and every interface on that node.
+    pub fn describe_worst_force(&self, solver: &Solver) -> String {
+        let p = solver.problem();
+        let (s, d, m) = self.worst_force;
+        let sub = &p.subs[s];
+        let node = d / 3;
+        let x = sub.mesh.nodes[node];
+        let on: Vec<&str> = sub
+            .sides
+            .iter()
+            .filter(|r| {
+                p.interfaces[r.interface].sides[r.side]
+                    .nodes
+                    .contains(&node)
+            })
+            .map(|r| p.interfaces[r.interface].name.as_str())
+            .collect();
+        format!(
+            "substructure `{}`, node at ({:.3e}, {:.3e}, {:.3e}) m, component {}, step {m} (t = {:.3e} s), on {}",
+            sub.name,
+            x[0],
+            x[1],
+            x[2],
+            ["x", "y", "z"][d % 3],
+            m as f64 * p.time.dt,
+            if on.is_empty() { "no interface".to_string() } else { on.join(", ") }
+        )
+    }
+}
+
+/// max |a − b| and max |b| accumulated over pairs of values.
+#[derive(Debug, Clone, Copy, Default)]
+struct MaxDiff {
+    diff: f64,
+    scale: f64,
+}
+
+impl MaxDiff {
+    fn add(&mut self, latin: f64, reference: f64) {
+        self.diff = self.diff.max((latin - reference).abs());
+        self.scale = self.scale.max(reference.abs());
+    }
+
+    fn merge(&mut self, o: MaxDiff) {
+        self.diff = self.diff.max(o.diff);
+        self.scale = self.scale.max(o.scale);
+    }
+
+    /// diff / scale (diff itself when the scale vanishes).
+    fn relative(&self) -> f64 {
+        if self.scale > 0.0 {
+            self.diff / self.scale
+        } else {
+            self.diff
+        }
+    }
 }
 
 /// Compares a converged LATIN solution with the reference solution of the same problem.
@@ -38,15 +114,47 @@ pub fn compare(
     let steps = p.time.steps;
     let mut dv: f64 = 0.0;
     let mut vmax: f64 = 0.0;
-    for (i, _) in p.subs.iter().enumerate() {
+    let (mut du, mut dv_avg) = (MaxDiff::default(), MaxDiff::default());
+    for (i, sub) in p.subs.iter().enumerate() {
         let mut err: f64 = 0.0;
+        let (mut u_err, mut v_avg_err) = (MaxDiff::default(), MaxDiff::default());
+        // step m − 1 of both, for the averages (replay starts at m = 0, the initial state)
+        let mut prev: Option<(Vec<f64>, Vec<f64>)> = None;
         replay(solver, sol, i, steps, &mut |m, st, _, _| {
             let vr = reference.sub_velocity(mono, m, i);
             for (a, b) in st.v.iter().zip(&vr) {
                 err = err.max((a - b).abs());
             }
+            for d in 0..sub.ndof() {
+                u_err.add(
+                    st.u[d],
+                    mono.u[m][reference.assembled().numbering.dof(i, d)],
+                );
+            }
+            if let Some((vl, vr_prev)) = &prev {
+                for d in 0..sub.ndof() {
+                    v_avg_err.add(0.5 * (st.v[d] + vl[d]), 0.5 * (vr[d] + vr_prev[d]));
+                }
+            }
+            prev = Some((st.v.clone(), vr));
         });
         dv = dv.max(err);
+        du.merge(u_err);
+        dv_avg.merge(v_avg_err);
+    }
+    let mut de = MaxDiff::default();
+    let (el, er) = (energy(solver, sol), reference.energy(mono));
+    for m in 0..=steps {
+        de.add(el.total(m), er.total(m));
+    }
+    let mut dn = MaxDiff::default();
+    let ref_contact = reference.contact(mono);
+    for cl in contact(solver, sol) {
+        if let Some(cr) = ref_contact.iter().find(|c| c.interface == cl.interface) {
+            for (a, b) in cl.normal_force.iter().zip(&cr.normal_force) {
+                dn.add(*a, *b);
+            }
+        }
     }
     for v in &mono.v {
         vmax = v.iter().fold(vmax, |acc, x| acc.max(x.abs()));
@@ -54,6 +162,7 @@ pub fn compare(
     let latin = latin_sub_forces(solver, sol);
     let mut df: f64 = 0.0;
     let mut fmax: f64 = 0.0;
+    let mut worst_force = (0, 0, 0);
     let mut prev_ref = reference.sub_forces(mono, 0);
     for m in 1..=steps {
         let now_ref = reference.sub_forces(mono, m);
@@ -61,7 +170,10 @@ pub fn compare(
             for d in 0..fr_now.len() {
                 let r = 0.5 * (fr_now[d] + fr_prev[d]);
                 let l = 0.5 * (latin[m][s][d] + latin[m - 1][s][d]);
-                df = df.max((l - r).abs());
+                if (l - r).abs() > df {
+                    df = (l - r).abs();
+                    worst_force = (s, d, m);
+                }
                 fmax = fmax.max(r.abs());
             }
         }
@@ -72,6 +184,11 @@ pub fn compare(
         rel_diff_force: if fmax > 0.0 { df / fmax } else { df },
         max_velocity: vmax,
         max_force: fmax,
+        rel_diff_displacement: du.relative(),
+        rel_diff_velocity_avg: dv_avg.relative(),
+        rel_diff_energy: de.relative(),
+        rel_diff_contact_force: dn.relative(),
+        worst_force,
     }
 }
 

@@ -1,9 +1,13 @@
-//! `lopin accuracy`: run time against error. LATIN (whole interval, and incremental with
-//! window 1) at tolerances 1e-1 … 1e-8, each result compared with the monolithic reference
-//! (max relative nodal-velocity difference over space–time) and, for the `bar` scene, with the
-//! exact solution (relative space–time L2 error: the discretization floor). Writes
-//! accuracy.csv and accuracy.png (log–log error against wall time, one curve per method, the
-//! reference's own time as a vertical line).
+//! `lopin accuracy`: run time against error. LATIN (whole interval stopped on η, whole interval
+//! stopped on η̄ — the indicator on step-averaged fields —, and incremental with window 1) at
+//! tolerances 1e-1 … 1e-8, each result compared with the monolithic reference (max relative
+//! nodal-velocity difference over space–time, and the differences the alternating mode cannot
+//! touch: displacements, step-averaged velocities, step-averaged interface forces, energy,
+//! contact normal force) and, for the `bar` scenes, with the exact solution (relative
+//! space–time L2 error: the discretization floor). Writes accuracy.csv, accuracy.png (log–log
+//! velocity error against wall time, one curve per method, the reference's own time as a
+//! vertical line) and accuracy-fields.png (each field's error against iterations, for both
+//! stopping tests). The time scheme is the run's (`--rho-inf`; the reference uses the same).
 //!
 //! Timing: the whole-interval solves form one chain — each tolerance continues from the state of
 //! the previous one, so the time of a row is the time of one solve stopped at that tolerance
@@ -16,6 +20,7 @@ use std::process::ExitCode;
 use anyhow::Context;
 use clap::Args;
 use lopin_core::counters::Instant;
+use lopin_core::indicator::StopTest;
 use lopin_core::{post, Settings, Solution, Solver};
 use lopin_reference::compare::compare;
 use lopin_reference::exact::{l2_error, BarExact};
@@ -56,6 +61,34 @@ pub struct Point {
     pub time_s: f64,
     pub error_reference: f64,
     pub error_exact: Option<f64>,
+    /// Every difference against the reference (None for the reference itself).
+    pub fields: Option<FieldErrors>,
+}
+
+/// The differences against the reference of one LATIN solution
+/// (`lopin_reference::compare::Comparison`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FieldErrors {
+    pub displacement: f64,
+    pub velocity: f64,
+    pub velocity_avg: f64,
+    pub force: f64,
+    pub energy: f64,
+    pub contact_force: f64,
+}
+
+impl FieldErrors {
+    /// The fields, named as in the CSV and the figure.
+    pub fn named(&self) -> [(&'static str, f64); 6] {
+        [
+            ("displacement", self.displacement),
+            ("velocity", self.velocity),
+            ("velocity_avg", self.velocity_avg),
+            ("force_avg", self.force),
+            ("energy", self.energy),
+            ("contact_force", self.contact_force),
+        ]
+    }
 }
 
 pub fn accuracy(args: &AccuracyArgs) -> anyhow::Result<ExitCode> {
@@ -99,6 +132,7 @@ pub fn accuracy(args: &AccuracyArgs) -> anyhow::Result<ExitCode> {
         error_exact: exact
             .as_ref()
             .map(|e| l2_error(p, e, &mut |s, m| reference.sub_velocity(&mono, m, s))),
+        fields: None,
     }];
     eprintln!("reference: {reference_s:.3} s");
 
@@ -110,40 +144,60 @@ pub fn accuracy(args: &AccuracyArgs) -> anyhow::Result<ExitCode> {
         }))
     };
 
-    // whole interval: one chain of solves
-    let clock = Instant::now();
-    let mut solver = Solver::new(built.problem.clone(), built.settings)?;
-    let mut elapsed = built.build_s + clock.elapsed().as_secs_f64();
-    let mut state = None;
-    let mut iterations = 0;
-    for &tol in &tols {
-        let settings = Settings {
-            tol,
-            window: None,
-            max_iter: 100_000,
-            ..built.settings
-        };
-        solver.set_settings(settings)?;
-        let clock = Instant::now();
-        let sol = solver.solve(state.as_ref())?;
-        elapsed += clock.elapsed().as_secs_f64();
-        iterations += sol.iterations;
-        let c = compare(&solver, &sol, &reference, &mono);
+    let point = |method: &'static str,
+                 tol: f64,
+                 iterations: usize,
+                 time_s: f64,
+                 solver: &Solver,
+                 sol: &Solution| {
+        let c = compare(solver, sol, &reference, &mono);
         let point = Point {
-            method: "latin",
+            method,
             tol: Some(tol),
             iterations,
             eta: sol.eta,
-            time_s: elapsed,
+            time_s,
             error_reference: c.rel_diff_velocity,
-            error_exact: error_exact(&solver, &sol),
+            error_exact: error_exact(solver, sol),
+            fields: Some(FieldErrors {
+                displacement: c.rel_diff_displacement,
+                velocity: c.rel_diff_velocity,
+                velocity_avg: c.rel_diff_velocity_avg,
+                force: c.rel_diff_force,
+                energy: c.rel_diff_energy,
+                contact_force: c.rel_diff_contact_force,
+            }),
         };
         eprintln!(
-            "latin tol {tol:.0e}: {iterations} iterations, {elapsed:.3} s, error {:.3e}",
+            "{method} tol {tol:.0e}: {iterations} iterations, {time_s:.3} s, error {:.3e}",
             point.error_reference
         );
-        points.push(point);
-        state = Some(sol.state);
+        point
+    };
+
+    // whole interval: one chain of solves per stopping test
+    for (method, stop) in [("latin", StopTest::Eta), ("latin-smooth", StopTest::Smooth)] {
+        let clock = Instant::now();
+        let mut solver = Solver::new(built.problem.clone(), built.settings)?;
+        let mut elapsed = built.build_s + clock.elapsed().as_secs_f64();
+        let mut state = None;
+        let mut iterations = 0;
+        for &tol in &tols {
+            let settings = Settings {
+                tol,
+                window: None,
+                max_iter: 100_000,
+                stop,
+                ..built.settings
+            };
+            solver.set_settings(settings)?;
+            let clock = Instant::now();
+            let sol = solver.solve(state.as_ref())?;
+            elapsed += clock.elapsed().as_secs_f64();
+            iterations += sol.iterations;
+            points.push(point(method, tol, iterations, elapsed, &solver, &sol));
+            state = Some(sol.state);
+        }
     }
 
     // incremental: cold per tolerance
@@ -161,21 +215,14 @@ pub fn accuracy(args: &AccuracyArgs) -> anyhow::Result<ExitCode> {
             let clock = Instant::now();
             let sol = solver.solve(None)?;
             let time_s = setup_s + clock.elapsed().as_secs_f64();
-            let c = compare(&solver, &sol, &reference, &mono);
-            let point = Point {
-                method: "latin-incremental",
-                tol: Some(tol),
-                iterations: sol.iterations,
-                eta: sol.eta,
+            points.push(point(
+                "latin-incremental",
+                tol,
+                sol.iterations,
                 time_s,
-                error_reference: c.rel_diff_velocity,
-                error_exact: error_exact(&solver, &sol),
-            };
-            eprintln!(
-                "incremental tol {tol:.0e}: {} iterations, {time_s:.3} s, error {:.3e}",
-                sol.iterations, point.error_reference
-            );
-            points.push(point);
+                &solver,
+                &sol,
+            ));
         }
     }
 
@@ -190,8 +237,15 @@ pub fn accuracy(args: &AccuracyArgs) -> anyhow::Result<ExitCode> {
         p.dof_count()
     );
     accuracy_plot::plot(&png, &title, &points)?;
+    let fields_png = out.join("accuracy-fields.png");
+    accuracy_plot::plot_fields(&fields_png, &title, &points)?;
     print!("{}", table(&points));
-    println!("wrote {} and {}", csv.display(), png.display());
+    println!(
+        "wrote {}, {} and {}",
+        csv.display(),
+        png.display(),
+        fields_png.display()
+    );
     Ok(ExitCode::SUCCESS)
 }
 
@@ -207,6 +261,11 @@ struct CsvRow<'a> {
     time_s: String,
     error_reference: String,
     error_exact: String,
+    error_displacement: String,
+    error_velocity_avg: String,
+    error_force_avg: String,
+    error_energy: String,
+    error_contact_force: String,
 }
 
 fn write_csv(
@@ -227,10 +286,22 @@ fn write_csv(
             time_s: format!("{:.6}", p.time_s),
             error_reference: format!("{:e}", p.error_reference),
             error_exact: p.error_exact.map_or(String::new(), |e| format!("{e:e}")),
+            error_displacement: field(p, |f| f.displacement),
+            error_velocity_avg: field(p, |f| f.velocity_avg),
+            error_force_avg: field(p, |f| f.force),
+            error_energy: field(p, |f| f.energy),
+            error_contact_force: field(p, |f| f.contact_force),
         })?;
     }
     w.flush()?;
     Ok(())
+}
+
+/// One field's error of a point, `{:e}`, empty for the reference.
+fn field(p: &Point, pick: impl Fn(&FieldErrors) -> f64) -> String {
+    p.fields
+        .as_ref()
+        .map_or(String::new(), |f| format!("{:e}", pick(f)))
 }
 
 fn table(points: &[Point]) -> String {
@@ -242,18 +313,40 @@ fn table(points: &[Point]) -> String {
         "time_s",
         "err_ref",
         "err_exact",
+        "err_u",
+        "err_v_avg",
+        "err_F_avg",
+        "err_E",
+        "err_contact",
     ]);
     for p in points {
-        t.add_row([
-            p.method.to_string(),
-            p.tol.map_or("-".to_string(), |t| format!("{t:.0e}")),
-            p.iterations.to_string(),
-            format!("{:.2e}", p.eta),
-            format!("{:.3}", p.time_s),
-            format!("{:.3e}", p.error_reference),
-            p.error_exact
-                .map_or("-".to_string(), |e| format!("{e:.3e}")),
-        ]);
+        t.add_row(
+            [
+                p.method.to_string(),
+                p.tol.map_or("-".to_string(), |t| format!("{t:.0e}")),
+                p.iterations.to_string(),
+                format!("{:.2e}", p.eta),
+                format!("{:.3}", p.time_s),
+                format!("{:.3e}", p.error_reference),
+                p.error_exact
+                    .map_or("-".to_string(), |e| format!("{e:.3e}")),
+            ]
+            .into_iter()
+            .chain(p.fields.as_ref().map_or_else(
+                || vec!["-".to_string(); 5],
+                |f| {
+                    [
+                        f.displacement,
+                        f.velocity_avg,
+                        f.force,
+                        f.energy,
+                        f.contact_force,
+                    ]
+                    .map(|e| format!("{e:.2e}"))
+                    .to_vec()
+                },
+            )),
+        );
     }
     format!("{}\n", t.trim_fmt())
 }

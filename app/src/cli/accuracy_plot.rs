@@ -1,7 +1,8 @@
 //! The run-time-against-error figure of `lopin accuracy`: log–log, error against wall time, one
 //! curve per method (LATIN whole interval, LATIN incremental) and per yardstick (reference solid,
 //! exact solution dashed when there is one), the reference's own time as a vertical line and its
-//! own error against the exact solution (the discretization floor) as a horizontal one.
+//! own error against the exact solution (the discretization floor) as a horizontal one; and the
+//! iterations-against-error figure of every field ([`plot_fields`]).
 
 use std::path::Path;
 
@@ -29,7 +30,7 @@ pub fn plot(path: &Path, title: &str, points: &[Point]) -> anyhow::Result<()> {
             })
             .collect()
     };
-    let all: Vec<(f64, f64)> = ["latin", "latin-incremental"]
+    let all: Vec<(f64, f64)> = ["latin", "latin-smooth", "latin-incremental"]
         .iter()
         .flat_map(|m| {
             let mut v = series(m, false);
@@ -39,12 +40,7 @@ pub fn plot(path: &Path, title: &str, points: &[Point]) -> anyhow::Result<()> {
         .map(|(t, e, _)| (t, e))
         .chain(reference.map(|r| (r.time_s, r.error_exact.unwrap_or(1.0).max(FLOOR))))
         .collect();
-    let (tmin, tmax) = all.iter().fold((f64::INFINITY, 0.0f64), |(a, b), p| {
-        (a.min(p.0), b.max(p.0))
-    });
-    let (emin, emax) = all.iter().fold((f64::INFINITY, 0.0f64), |(a, b), p| {
-        (a.min(p.1), b.max(p.1))
-    });
+    let ((tmin, tmax), (emin, emax)) = extent(&all);
     let root = BitMapBackend::new(path, (1000, 640)).into_drawing_area();
     root.fill(&WHITE).map_err(err)?;
     let mut chart = ChartBuilder::on(&root)
@@ -106,8 +102,14 @@ pub fn plot(path: &Path, title: &str, points: &[Point]) -> anyhow::Result<()> {
                 });
         }
     }
-    let curves: [(&str, bool, RGBColor, &str); 4] = [
+    let curves: [(&str, bool, RGBColor, &str); 6] = [
         ("latin", false, RED, "LATIN, whole interval: vs reference"),
+        (
+            "latin-smooth",
+            false,
+            RGBColor(140, 60, 170),
+            "LATIN, whole interval, stop on η̄: vs reference",
+        ),
         (
             "latin-incremental",
             false,
@@ -125,6 +127,12 @@ pub fn plot(path: &Path, title: &str, points: &[Point]) -> anyhow::Result<()> {
             true,
             RGBColor(0, 150, 150),
             "LATIN, incremental: vs exact",
+        ),
+        (
+            "latin-smooth",
+            true,
+            RGBColor(200, 120, 200),
+            "LATIN, whole interval, stop on η̄: vs exact",
         ),
     ];
     for (method, exact, colour, label) in curves {
@@ -171,3 +179,116 @@ pub fn plot(path: &Path, title: &str, points: &[Point]) -> anyhow::Result<()> {
     root.present().map_err(err)?;
     Ok(())
 }
+
+/// The iterations-against-error figure: for the whole-interval chains stopped on η (solid) and
+/// on η̄ (dashed), each field's difference from the reference against the iterations spent,
+/// one colour per field, so that how many iterations each field needs for a given error reads
+/// off directly. Fields that are exactly zero (no contact) are left out.
+pub fn plot_fields(path: &Path, title: &str, points: &[Point]) -> anyhow::Result<()> {
+    fonts();
+    let colours = [
+        RGBColor(0, 90, 200),
+        RED,
+        RGBColor(230, 120, 0),
+        RGBColor(0, 150, 80),
+        RGBColor(140, 60, 170),
+        RGBColor(90, 90, 90),
+    ];
+    let series = |method: &str, field: usize| -> Vec<(f64, f64)> {
+        points
+            .iter()
+            .filter(|p| p.method == method)
+            .filter_map(|p| {
+                let e = p.fields?.named()[field].1;
+                (e > 0.0).then_some((p.iterations.max(1) as f64, e.max(FLOOR)))
+            })
+            .collect()
+    };
+    let methods = [("latin", "stop on η"), ("latin-smooth", "stop on η̄")];
+    let all: Vec<(f64, f64)> = methods
+        .iter()
+        .flat_map(|(m, _)| (0..colours.len()).flat_map(move |f| series(m, f)))
+        .collect();
+    if all.is_empty() {
+        anyhow::bail!("no whole-interval points to draw in {}", path.display());
+    }
+    let ((xmin, xmax), (emin, emax)) = extent(&all);
+    let root = BitMapBackend::new(path, (1000, 640)).into_drawing_area();
+    root.fill(&WHITE).map_err(err)?;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(
+            format!("error of each field against iterations: {title}"),
+            ("sans-serif", 22),
+        )
+        .margin(14)
+        .x_label_area_size(44)
+        .y_label_area_size(70)
+        .build_cartesian_2d(
+            (xmin / 1.3..xmax * 1.3).log_scale(),
+            (emin / 3.0..emax * 3.0).log_scale(),
+        )
+        .map_err(err)?;
+    chart
+        .configure_mesh()
+        .x_desc("LATIN iterations (whole interval, cumulative over the tolerances)")
+        .y_desc("relative difference from the reference")
+        .x_label_formatter(&|x| format!("{x:.0}"))
+        .y_label_formatter(&|y| format!("{y:.0e}"))
+        .label_style(("sans-serif", 15))
+        .draw()
+        .map_err(err)?;
+    for (mi, (method, how)) in methods.iter().enumerate() {
+        for (f, colour) in colours.iter().copied().enumerate() {
+            let s = series(method, f);
+            if s.is_empty() {
+                continue;
+            }
+            let style = colour.stroke_width(2);
+            let label = format!("{} ({how})", FIELD_LABELS[f]);
+            if mi == 0 {
+                chart
+                    .draw_series(LineSeries::new(s.iter().copied(), style))
+                    .map_err(err)?
+                    .label(label)
+                    .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], style));
+            } else {
+                chart
+                    .draw_series(DashedLineSeries::new(s.iter().copied(), 6, 4, style))
+                    .map_err(err)?
+                    .label(label)
+                    .legend(move |(x, y)| PathElement::new([(x, y), (x + 8, y)], style));
+            }
+            chart
+                .draw_series(s.iter().map(|p| Circle::new(*p, 3, colour.filled())))
+                .map_err(err)?;
+        }
+    }
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::LowerLeft)
+        .background_style(WHITE.mix(0.9))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 13))
+        .draw()
+        .map_err(err)?;
+    root.present().map_err(err)?;
+    Ok(())
+}
+
+/// The ranges (min, max) of the x and of the y values of `points`.
+fn extent(points: &[(f64, f64)]) -> ((f64, f64), (f64, f64)) {
+    points.iter().fold(
+        ((f64::INFINITY, 0.0f64), (f64::INFINITY, 0.0f64)),
+        |((x0, x1), (y0, y1)), p| ((x0.min(p.0), x1.max(p.0)), (y0.min(p.1), y1.max(p.1))),
+    )
+}
+
+/// Readable names of [`super::accuracy::FieldErrors::named`], in its order.
+const FIELD_LABELS: [&str; 6] = [
+    "displacement",
+    "velocity",
+    "step-averaged velocity",
+    "step-averaged interface force",
+    "energy",
+    "contact normal force",
+];

@@ -47,6 +47,7 @@ pub fn bench(args: &BenchArgs) -> anyhow::Result<ExitCode> {
             mu: None,
             rho_inf: None,
             directions: None,
+            stop: None,
             refine,
             split: 1,
             window: Some(WindowRequest::Whole),

@@ -1,5 +1,7 @@
 //! `lopin compare`: LATIN and the monolithic reference on the same scene and options, and the
-//! relative differences of nodal velocities and step-averaged interface forces (core `compare`).
+//! relative differences of nodal velocities and step-averaged interface forces, and of the
+//! quantities the undamped rule's alternating mode cannot touch: displacements, step-averaged
+//! velocities, total energy and contact normal forces (`lopin_reference::compare`).
 
 use std::process::ExitCode;
 
@@ -49,6 +51,11 @@ pub fn compare_cmd(args: &CompareArgs) -> anyhow::Result<ExitCode> {
             rel_diff_force: c.rel_diff_force,
             max_velocity: c.max_velocity,
             max_force: c.max_force,
+            rel_diff_displacement: c.rel_diff_displacement,
+            rel_diff_velocity_avg: c.rel_diff_velocity_avg,
+            rel_diff_energy: c.rel_diff_energy,
+            rel_diff_contact_force: c.rel_diff_contact_force,
+            worst_force_at: c.describe_worst_force(&solver),
             latin: latin.report(),
             reference: reference.report(),
         };
@@ -58,8 +65,13 @@ pub fn compare_cmd(args: &CompareArgs) -> anyhow::Result<ExitCode> {
         rows.row(
             "LATIN",
             format!(
-                "{} iterations, eta {:.2e}, {:.3} s",
-                solution.iterations, solution.eta, latin_s
+                "{} iterations, eta {:.2e}, eta smooth {}, {:.3} s",
+                solution.iterations,
+                solution.eta,
+                solution
+                    .eta_smooth
+                    .map_or_else(|| "-".to_string(), |e| format!("{e:.2e}")),
+                latin_s
             ),
         );
         rows.row(
@@ -81,6 +93,26 @@ pub fn compare_cmd(args: &CompareArgs) -> anyhow::Result<ExitCode> {
             "rel_diff_force",
             format!("{:.3e} (max |F| {:.4e} N)", c.rel_diff_force, c.max_force),
         );
+        rows.row("  largest at", c.describe_worst_force(&solver));
+        rows.row(
+            "rel_diff_displacement",
+            format!("{:.3e}", c.rel_diff_displacement),
+        );
+        rows.row(
+            "rel_diff_velocity_avg",
+            format!("{:.3e}  (step-averaged)", c.rel_diff_velocity_avg),
+        );
+        rows.row(
+            "rel_diff_energy",
+            format!("{:.3e}  (kinetic + strain)", c.rel_diff_energy),
+        );
+        rows.row(
+            "rel_diff_contact_force",
+            format!(
+                "{:.3e}  (step-averaged normal force)",
+                c.rel_diff_contact_force
+            ),
+        );
         print!("{rows}");
     }
     Ok(if solution.converged {
@@ -98,6 +130,11 @@ struct CompareReport {
     rel_diff_force: f64,
     max_velocity: f64,
     max_force: f64,
+    rel_diff_displacement: f64,
+    rel_diff_velocity_avg: f64,
+    rel_diff_energy: f64,
+    rel_diff_contact_force: f64,
+    worst_force_at: String,
     latin: SolveReport<Latin>,
     reference: SolveReport<MonolithicReport>,
 }

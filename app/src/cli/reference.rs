@@ -95,6 +95,7 @@ impl ReferenceRun {
             peak_memory_bytes: super::report::peak_memory_bytes(),
             iterations: sol.sweeps,
             eta: sol.contact_change,
+            eta_smooth: None,
             converged: true,
             wall_s: self.time_s() + self.post_s,
             stages_s: Stages {

@@ -4,6 +4,7 @@
 //! and the key–value summary tables (comfy-table) with the energy and contact rows they share.
 
 use comfy_table::{presets, CellAlignment, Table};
+use lopin_core::indicator::StopTest;
 use lopin_core::post::Summary;
 use lopin_core::scene::SceneSpec;
 use lopin_core::window_choice::WindowChoice;
@@ -28,6 +29,9 @@ pub struct SolveReport<M> {
     pub peak_memory_bytes: Option<u64>,
     pub iterations: usize,
     pub eta: f64,
+    /// η̄, the indicator on step-averaged fields (LATIN only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub eta_smooth: Option<f64>,
     pub converged: bool,
     pub wall_s: f64,
     pub stages_s: Stages,
@@ -102,6 +106,8 @@ pub struct LatinSettings {
     #[serde(rename = "macro")]
     pub two_scale: bool,
     pub directions: lopin_core::search_direction::Directions,
+    /// Which indicator ended the windows.
+    pub stop: lopin_core::indicator::StopTest,
     /// Why these windows (absent where the command set them itself).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub window_reason: Option<String>,
@@ -158,6 +164,7 @@ impl<'a> RunReport<'a> {
                     window: set.window,
                     two_scale: set.two_scale,
                     directions: set.directions,
+                    stop: set.stop,
                     window_reason: self.windows.map(|w| w.reason.clone()),
                 },
             },
@@ -166,6 +173,7 @@ impl<'a> RunReport<'a> {
             peak_memory_bytes: peak_memory_bytes(),
             iterations: self.solution.iterations,
             eta: self.solution.eta,
+            eta_smooth: self.solution.eta_smooth,
             converged: self.solution.converged,
             wall_s: self.wall_s,
             stages_s: Stages {
@@ -238,7 +246,20 @@ impl<'a> RunReport<'a> {
                 }
             ),
         );
-        rows.row("eta", format!("{:.3e}", sol.eta));
+        let stop = |t: StopTest| {
+            if set.stop == t {
+                "  (stopping test)"
+            } else {
+                ""
+            }
+        };
+        rows.row("eta", format!("{:.3e}{}", sol.eta, stop(StopTest::Eta)));
+        if let Some(e) = sol.eta_smooth {
+            rows.row(
+                "eta smooth",
+                format!("{e:.3e}{}  (step-averaged fields)", stop(StopTest::Smooth)),
+            );
+        }
         rows.row("time setup", format!("{:.3} s", st.setup));
         rows.row("time local stage", format!("{:.3} s", st.local));
         rows.row("time linear stage", format!("{:.3} s", st.linear));

@@ -5,6 +5,7 @@ use anyhow::Context;
 use clap::Args;
 use lopin_core::counters::Instant;
 use lopin_core::estimate::Estimate;
+use lopin_core::indicator::StopTest;
 use lopin_core::scene::admission::{admit, Footprint, SolveShape};
 use lopin_core::search_direction::Directions;
 use lopin_core::window_choice::{choose, Task, WindowChoice, WindowRequest};
@@ -12,6 +13,10 @@ use lopin_core::{scene, LopinError, Parameter, Problem, Settings, Solver};
 
 fn parse_directions(s: &str) -> Result<Directions, String> {
     Directions::parse(s)
+}
+
+fn parse_stop(s: &str) -> Result<StopTest, String> {
+    StopTest::parse(s).map_err(|e| e.to_string())
 }
 
 /// Options shared by the commands that solve a scene.
@@ -41,6 +46,11 @@ pub struct SceneArgs {
     /// the scene's `solver.directions`, else isotropic).
     #[arg(long, value_parser = parse_directions)]
     pub directions: Option<Directions>,
+    /// Which indicator ends a window: `eta` (the fields themselves, METHOD §6) or `smooth` (η̄,
+    /// the same measure on step-averaged fields, blind to the undamped rule's alternating mode;
+    /// default: the scene's `solver.stop`, else eta).
+    #[arg(long, value_parser = parse_stop)]
+    pub stop: Option<StopTest>,
     /// Multiply the mesh divisions by K.
     #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     pub refine: usize,
@@ -247,6 +257,9 @@ pub fn build_admitted(
     }
     if let Some(v) = args.directions {
         settings.directions = v;
+    }
+    if let Some(v) = args.stop {
+        settings.stop = v;
     }
     Ok(Built {
         spec,

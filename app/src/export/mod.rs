@@ -38,7 +38,13 @@ pub fn write_vtu(
         for (i, s) in p.subs.iter().enumerate() {
             let file = format!("{}_{m:05}.vtu", entity_name(&s.name));
             let path = dir.join(&file);
-            vtu::write(solver, i, &history[i][m], &path)?;
+            vtu::write(
+                solver,
+                i,
+                &history[i][m],
+                &history[i][m.saturating_sub(1)],
+                &path,
+            )?;
             bytes += std::fs::metadata(&path).map_or(0, |md| md.len());
             entries.push(pvd::Entry {
                 time: p.time.time(m),

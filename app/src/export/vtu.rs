@@ -1,6 +1,8 @@
 //! One substructure at one time step as a VTK XML unstructured grid (.vtu, written by the vtkio
 //! crate): linear hexahedra (Lopin's Hex8 node order is VTK_HEXAHEDRON's), point data
-//! `displacement` and `velocity` (m, m/s), cell data `von_mises` (Pa), `stress` (Cauchy tensor
+//! `displacement`, `velocity` and `velocity_avg` (m, m/s; the step average (v_m + v_{m−1})/2,
+//! which the undamped rule's alternating mode v_m = (−1)^m c does not reach: the velocity to look
+//! at when a solve was stopped at a loose η, METHOD §10), cell data `von_mises` (Pa), `stress` (Cauchy tensor
 //! at the element centre, 9 components, Pa; METHOD §2 Hex8), `substructure` and `material` ids.
 
 use anyhow::Context;
@@ -15,12 +17,13 @@ use vtkio::model::{
 };
 
 /// Point and cell field names, in file order.
-pub const POINT_FIELDS: [&str; 2] = ["displacement", "velocity"];
+pub const POINT_FIELDS: [&str; 3] = ["displacement", "velocity", "velocity_avg"];
 /// Cell field names, in file order.
 pub const CELL_FIELDS: [&str; 4] = ["von_mises", "stress", "substructure", "material"];
 
-/// The grid of substructure `i` with fields `f`.
-pub fn grid(solver: &Solver, i: usize, f: &SubFields, title: String) -> Vtk {
+/// The grid of substructure `i` with fields `f` and the fields `prev` of the step before (the
+/// same fields at m = 0).
+pub fn grid(solver: &Solver, i: usize, f: &SubFields, prev: &SubFields, title: String) -> Vtk {
     let sub = &solver.problem().subs[i];
     let mesh = &sub.mesh;
     let points: Vec<f64> = mesh.nodes.iter().flatten().copied().collect();
@@ -43,6 +46,14 @@ pub fn grid(solver: &Solver, i: usize, f: &SubFields, title: String) -> Vtk {
         point: vec![
             Attribute::DataArray(DataArray::vectors(POINT_FIELDS[0]).with_data(f.u.clone())),
             Attribute::DataArray(DataArray::vectors(POINT_FIELDS[1]).with_data(f.v.clone())),
+            Attribute::DataArray(
+                DataArray::vectors(POINT_FIELDS[2]).with_data(
+                    f.v.iter()
+                        .zip(&prev.v)
+                        .map(|(a, b)| 0.5 * (a + b))
+                        .collect::<Vec<f64>>(),
+                ),
+            ),
         ],
         cell: vec![
             Attribute::DataArray(DataArray::scalars(CELL_FIELDS[0], 1).with_data(von_mises)),
@@ -76,14 +87,21 @@ pub fn grid(solver: &Solver, i: usize, f: &SubFields, title: String) -> Vtk {
     }
 }
 
-/// Writes the grid of substructure `i` with fields `f` to `path` (.vtu).
-pub fn write(solver: &Solver, i: usize, f: &SubFields, path: &Path) -> anyhow::Result<()> {
+/// Writes the grid of substructure `i` with fields `f` (and `prev`, the step before's) to
+/// `path` (.vtu).
+pub fn write(
+    solver: &Solver,
+    i: usize,
+    f: &SubFields,
+    prev: &SubFields,
+    path: &Path,
+) -> anyhow::Result<()> {
     let title = format!(
         "Lopin {} {}",
         solver.problem().name,
         solver.problem().subs[i].name
     );
-    grid(solver, i, f, title)
+    grid(solver, i, f, prev, title)
         .export(path)
         .map_err(|e| anyhow::anyhow!("{e:?}"))
         .with_context(|| format!("writing {}", path.display()))

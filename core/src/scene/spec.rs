@@ -83,6 +83,10 @@ pub struct SolverSpec {
     /// tangential; [`crate::search_direction`]); absent: isotropic.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub directions: Option<crate::search_direction::Directions>,
+    /// Which indicator ends a window: `eta` (METHOD §6) or `smooth` (η̄ on step-averaged
+    /// fields, [`crate::indicator`]); absent: eta.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stop: Option<crate::indicator::StopTest>,
     /// Two-scale linear stage with the macro problem of METHOD §9 (absent: off).
     #[serde(default, rename = "macro", skip_serializing_if = "Option::is_none")]
     pub two_scale: Option<bool>,

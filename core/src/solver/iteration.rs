@@ -12,10 +12,11 @@
 //!    substructures in lock-step with one macro solve per step), as the solver's
 //!    [`super::linear::LinearStage`] is;
 //! 3. [`SolveRun::indicator`]: η from the unrelaxed linear-stage output and ŝ (METHOD §6), with
-//!    the window normalisation of METHOD §7 ([`crate::indicator`]);
+//!    the window normalisation of METHOD §7, and beside it η̄ on step-averaged fields
+//!    ([`crate::indicator`]);
 //! 4. [`SolveRun::relaxation`]: s ← μ s_new + (1 − μ) s, μ = 1 at a window's first iteration
 //!    (METHOD §6);
-//! 5. [`SolveRun::end_of_window`]: η < tol moves to the next window (held start, see
+//! 5. [`SolveRun::end_of_window`]: η < tol (or η̄ < tol, as [`Settings::stop`] says) moves to the next window (held start, see
 //!    [`super::Settings::hold_window_start`]); a non-finite η or the iteration limit ends the
 //!    solve unconverged.
 
@@ -23,7 +24,7 @@ use super::linear::{LinearOutcome, LinearStage, Operators};
 use super::{non_finite, Control, Iterate, Settings, Solution, Solver};
 use crate::counters::{Instant, IterationRecord};
 use crate::error::Result;
-use crate::indicator::{IndicatorSums, WindowNorm};
+use crate::indicator::{smooth_sums, IndicatorSums, StopTest, WindowNorm};
 use crate::interface::Law;
 use crate::linear_stage::{LinearInput, SubState};
 use crate::local_stage::{local_stage, ContactRunning, LocalInput};
@@ -66,6 +67,12 @@ pub struct SolveRun {
     /// Last η.
     eta: f64,
     eta_history: Vec<f64>,
+    /// η̄ sums of the current window after the last linear stage.
+    window_smooth: IndicatorSums,
+    /// The η̄ denominator carried from the finished windows.
+    norm_smooth: WindowNorm,
+    /// Last η̄.
+    eta_smooth: f64,
     /// Whether every finished window converged.
     converged: bool,
     /// Whether an observer stopped it.
@@ -95,6 +102,11 @@ impl SolveRun {
     /// η of the last iteration (∞ before the first).
     pub fn eta(&self) -> f64 {
         self.eta
+    }
+
+    /// η̄ of the last iteration (∞ before the first).
+    pub fn eta_smooth(&self) -> f64 {
+        self.eta_smooth
     }
 
     /// Where the first non-finite value appeared and the inputs behind it, if the solve ended on
@@ -184,6 +196,9 @@ impl Solver {
             norm: WindowNorm::new(self.settings.per_step_window_norm),
             eta: f64::INFINITY,
             eta_history: Vec::new(),
+            window_smooth: IndicatorSums::default(),
+            norm_smooth: WindowNorm::new(self.settings.per_step_window_norm),
+            eta_smooth: f64::INFINITY,
             converged: true,
             cancelled: false,
             done: false,
@@ -215,7 +230,7 @@ impl Solver {
             factors: &self.factors,
         };
         let outcome = run.linear_stage(&self.problem, &mut self.linear, ops, &set);
-        run.indicator(outcome.sums);
+        run.indicator(outcome.sums, &self.problem, set.k);
         if !run.eta.is_finite() {
             // the first non-finite value stops the solve where it appeared
             run.failure = Some(non_finite::describe(
@@ -237,6 +252,7 @@ impl Solver {
             window_start: run.m0,
             window_end: run.m1,
             eta: run.eta,
+            eta_smooth: run.eta_smooth,
             local_s,
             linear_s,
             macro_s: outcome.macro_s,
@@ -265,6 +281,7 @@ impl Solver {
             hats: run.hats,
             iterations: run.iterations,
             eta: run.eta,
+            eta_smooth: run.eta_smooth.is_finite().then_some(run.eta_smooth),
             eta_history: run.eta_history,
             converged: run.converged && run.done && !run.cancelled,
             cancelled: run.cancelled,
@@ -315,10 +332,13 @@ impl SolveRun {
     }
 
     /// Stage 3, error indicator (METHOD §6–7): η of the window from its sums and the norm carried
-    /// from the finished windows.
-    pub(crate) fn indicator(&mut self, window: IndicatorSums) {
+    /// from the finished windows; η̄ likewise from the step averages of s_new and ŝ.
+    pub(crate) fn indicator(&mut self, window: IndicatorSums, problem: &Problem, k: f64) {
         self.eta = self.norm.eta(window, (self.m0, self.m1));
         self.eta_history.push(self.eta);
+        let steps = (self.m0, self.m1);
+        self.window_smooth = smooth_sums(&problem.interfaces, k, &self.s_new, &self.hats, steps);
+        self.eta_smooth = self.norm_smooth.eta(self.window_smooth, steps);
     }
 
     /// Stage 4, relaxation (METHOD §6): s ← μ s_new + (1 − μ) s on the window's steps, with
@@ -334,7 +354,11 @@ impl SolveRun {
     /// cold next window starts from the last converged step held constant, and an unconverged
     /// window ends the solve. Returns whether the solve has ended.
     pub(crate) fn end_of_window(&mut self, linear: &LinearStage, settings: &Settings) -> bool {
-        let window_converged = self.eta < settings.tol;
+        let tested = match settings.stop {
+            StopTest::Eta => self.eta,
+            StopTest::Smooth => self.eta_smooth,
+        };
+        let window_converged = tested < settings.tol;
         if !window_converged && self.it < settings.max_iter {
             return false;
         }
@@ -347,6 +371,7 @@ impl SolveRun {
             }
         }
         self.norm.close_window(self.window_sums);
+        self.norm_smooth.close_window(self.window_smooth);
         if !window_converged {
             self.converged = false;
             self.done = true;

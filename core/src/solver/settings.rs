@@ -2,6 +2,7 @@
 //! windows, §9 two-scale switch, §10 defaults), and the checks every setting gets.
 
 use crate::error::{LopinError, Result};
+use crate::indicator::StopTest;
 use crate::problem::Problem;
 use crate::scene::spec::SolverSpec;
 use crate::search_direction::Directions;
@@ -39,6 +40,10 @@ pub struct Settings {
     /// ([`crate::search_direction`]). Changing it refactorizes.
     #[serde(default)]
     pub directions: Directions,
+    /// Which indicator the stopping test reads: η, or η̄ on step-averaged fields
+    /// ([`crate::indicator`]).
+    #[serde(default)]
+    pub stop: StopTest,
 }
 
 impl Settings {
@@ -58,6 +63,7 @@ impl Settings {
             per_step_window_norm: true,
             two_scale: spec.two_scale.unwrap_or(false),
             directions: spec.directions.unwrap_or_default(),
+            stop: spec.stop.unwrap_or_default(),
         }
     }
 

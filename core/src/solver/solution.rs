@@ -39,6 +39,7 @@ impl Iterate<'_> {
             hats: self.hats.to_vec(),
             iterations: self.record.iteration,
             eta: self.record.eta,
+            eta_smooth: Some(self.record.eta_smooth),
             eta_history: self.eta_history.to_vec(),
             converged: false,
             cancelled: false,
@@ -57,6 +58,9 @@ pub struct Solution {
     pub iterations: usize,
     /// Last η.
     pub eta: f64,
+    /// Last η̄ (step-averaged fields; None for a solution read back from a file, which keeps
+    /// only η).
+    pub eta_smooth: Option<f64>,
     /// η after each iteration.
     pub eta_history: Vec<f64>,
     /// Whether every window reached η < tol.

@@ -41,6 +41,9 @@ pub enum PredictorArg {
     Previous,
     /// Linear extrapolation from the two previous converged states.
     Linear,
+    /// Linear extrapolation of the time-smoothed change only (the alternating content of the
+    /// change is not extrapolated).
+    Smooth,
 }
 
 impl From<PredictorArg> for Predictor {
@@ -48,6 +51,7 @@ impl From<PredictorArg> for Predictor {
         match p {
             PredictorArg::Previous => Predictor::Previous,
             PredictorArg::Linear => Predictor::Linear,
+            PredictorArg::Smooth => Predictor::Smooth,
         }
     }
 }
