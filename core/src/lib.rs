@@ -20,6 +20,7 @@
 //! # Ok::<(), lopin_core::LopinError>(())
 //! ```
 
+pub mod acceleration;
 pub mod counters;
 pub mod detect;
 pub mod error;

@@ -48,6 +48,7 @@ pub fn bench(args: &BenchArgs) -> anyhow::Result<ExitCode> {
             rho_inf: None,
             directions: None,
             stop: None,
+            anderson: None,
             refine,
             split: 1,
             window: Some(WindowRequest::Whole),

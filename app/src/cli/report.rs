@@ -108,6 +108,8 @@ pub struct LatinSettings {
     pub directions: lopin_core::search_direction::Directions,
     /// Which indicator ended the windows.
     pub stop: lopin_core::indicator::StopTest,
+    /// Anderson depth (0: plain relaxation).
+    pub anderson: usize,
     /// Why these windows (absent where the command set them itself).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub window_reason: Option<String>,
@@ -165,6 +167,7 @@ impl<'a> RunReport<'a> {
                     two_scale: set.two_scale,
                     directions: set.directions,
                     stop: set.stop,
+                    anderson: set.anderson,
                     window_reason: self.windows.map(|w| w.reason.clone()),
                 },
             },

@@ -51,6 +51,10 @@ pub struct SceneArgs {
     /// default: the scene's `solver.stop`, else eta).
     #[arg(long, value_parser = parse_stop)]
     pub stop: Option<StopTest>,
+    /// Depth of the Anderson acceleration of the relaxation (0: plain relaxation; default: the
+    /// scene's `solver.anderson`, else 0).
+    #[arg(long, allow_negative_numbers = true)]
+    pub anderson: Option<usize>,
     /// Multiply the mesh divisions by K.
     #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     pub refine: usize,
@@ -260,6 +264,9 @@ pub fn build_admitted(
     }
     if let Some(v) = args.stop {
         settings.stop = v;
+    }
+    if let Some(v) = args.anderson {
+        settings.anderson = v;
     }
     Ok(Built {
         spec,

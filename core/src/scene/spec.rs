@@ -87,6 +87,10 @@ pub struct SolverSpec {
     /// fields, [`crate::indicator`]); absent: eta.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub stop: Option<crate::indicator::StopTest>,
+    /// Depth of the Anderson acceleration of the relaxation (absent or 0: plain relaxation,
+    /// [`crate::acceleration`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub anderson: Option<usize>,
     /// Two-scale linear stage with the macro problem of METHOD §9 (absent: off).
     #[serde(default, rename = "macro", skip_serializing_if = "Option::is_none")]
     pub two_scale: Option<bool>,

@@ -15,13 +15,14 @@
 //!    the window normalisation of METHOD §7, and beside it η̄ on step-averaged fields
 //!    ([`crate::indicator`]);
 //! 4. [`SolveRun::relaxation`]: s ← μ s_new + (1 − μ) s, μ = 1 at a window's first iteration
-//!    (METHOD §6);
+//!    (METHOD §6), or its Anderson-accelerated form ([`crate::acceleration`]);
 //! 5. [`SolveRun::end_of_window`]: η < tol (or η̄ < tol, as [`Settings::stop`] says) moves to the next window (held start, see
 //!    [`super::Settings::hold_window_start`]); a non-finite η or the iteration limit ends the
 //!    solve unconverged.
 
 use super::linear::{LinearOutcome, LinearStage, Operators};
 use super::{non_finite, Control, Iterate, Settings, Solution, Solver};
+use crate::acceleration::Anderson;
 use crate::counters::{Instant, IterationRecord};
 use crate::error::Result;
 use crate::indicator::{smooth_sums, IndicatorSums, StopTest, WindowNorm};
@@ -73,6 +74,8 @@ pub struct SolveRun {
     norm_smooth: WindowNorm,
     /// Last η̄.
     eta_smooth: f64,
+    /// The Anderson history of the window (None: plain relaxation).
+    anderson: Option<Anderson>,
     /// Whether every finished window converged.
     converged: bool,
     /// Whether an observer stopped it.
@@ -199,6 +202,7 @@ impl Solver {
             window_smooth: IndicatorSums::default(),
             norm_smooth: WindowNorm::new(self.settings.per_step_window_norm),
             eta_smooth: f64::INFINITY,
+            anderson: (self.settings.anderson > 0).then(|| Anderson::new(self.settings.anderson)),
             converged: true,
             cancelled: false,
             done: false,
@@ -245,7 +249,7 @@ impl Solver {
             run.done = true;
             return true;
         }
-        run.relaxation(set.mu);
+        run.relaxation(&self.problem, set.k, set.mu);
         let linear_s = t_linear.elapsed().as_secs_f64();
         let record = IterationRecord {
             iteration: run.iterations,
@@ -343,9 +347,20 @@ impl SolveRun {
 
     /// Stage 4, relaxation (METHOD §6): s ← μ s_new + (1 − μ) s on the window's steps, with
     /// μ = 1 at the window's first iteration.
-    pub(crate) fn relaxation(&mut self, mu: f64) {
+    pub(crate) fn relaxation(&mut self, problem: &Problem, k: f64, mu: f64) {
         let mu = if self.it == 1 { 1.0 } else { mu };
-        relax(&mut self.s, &self.s_new, mu, (self.m0, self.m1));
+        let steps = (self.m0, self.m1);
+        match &mut self.anderson {
+            None => relax(&mut self.s, &self.s_new, mu, steps),
+            Some(acc) => {
+                if self.it == 1 {
+                    acc.reset();
+                }
+                let (mut x, g, w) = flatten(problem, k, &self.s, &self.s_new, steps);
+                acc.step(&mut x, &g, &w, mu);
+                unflatten(&mut self.s, &x, steps);
+            }
+        }
     }
 
     /// Stage 5, end of window (METHOD §7): unless η < tol or the window's iteration limit is
@@ -398,6 +413,47 @@ impl SolveRun {
             }
         }
         false
+    }
+}
+
+/// s and s_new on steps m0..=m1 as flat vectors (every substructure's F then W, step-major),
+/// with the η weight of each entry: A/k_j on forces, A k_j on velocities (METHOD §6).
+fn flatten(
+    problem: &Problem,
+    k: f64,
+    s: &InterfaceState,
+    s_new: &InterfaceState,
+    (m0, m1): (usize, usize),
+) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+    let (mut x, mut g, mut w) = (Vec::new(), Vec::new(), Vec::new());
+    for ((h, hn), sub) in s.subs.iter().zip(&s_new.subs).zip(&problem.subs) {
+        let r = m0 * h.len..(m1 + 1) * h.len;
+        x.extend_from_slice(&h.f[r.clone()]);
+        x.extend_from_slice(&h.w[r.clone()]);
+        g.extend_from_slice(&hn.f[r.clone()]);
+        g.extend_from_slice(&hn.w[r]);
+        let weight = |j: usize, force: bool| {
+            let kj = k * sub.trace_k[j];
+            sub.trace_area[j] * if force { 1.0 / kj } else { kj }
+        };
+        for force in [true, false] {
+            for _ in m0..=m1 {
+                w.extend((0..h.len).map(|j| weight(j, force)));
+            }
+        }
+    }
+    (x, g, w)
+}
+
+/// Writes the flat vector of [`flatten`] back into s on steps m0..=m1.
+fn unflatten(s: &mut InterfaceState, x: &[f64], (m0, m1): (usize, usize)) {
+    let mut at = 0;
+    for h in &mut s.subs {
+        let r = m0 * h.len..(m1 + 1) * h.len;
+        let n = r.len();
+        h.f[r.clone()].copy_from_slice(&x[at..at + n]);
+        h.w[r].copy_from_slice(&x[at + n..at + 2 * n]);
+        at += 2 * n;
     }
 }
 

@@ -44,11 +44,17 @@ pub struct Settings {
     /// ([`crate::indicator`]).
     #[serde(default)]
     pub stop: StopTest,
+    /// Depth of the Anderson acceleration of the relaxation ([`crate::acceleration`]; 0: the
+    /// plain relaxation of METHOD §6).
+    #[serde(default)]
+    pub anderson: usize,
 }
 
 impl Settings {
     /// Default iteration limit.
     pub const MAX_ITER: usize = 2000;
+    /// Largest Anderson depth accepted.
+    pub const MAX_ANDERSON: usize = 50;
 
     /// The defaults for a problem, overridden by the scene's solver section.
     pub fn for_problem(problem: &Problem, spec: &SolverSpec) -> Self {
@@ -64,6 +70,7 @@ impl Settings {
             two_scale: spec.two_scale.unwrap_or(false),
             directions: spec.directions.unwrap_or_default(),
             stop: spec.stop.unwrap_or_default(),
+            anderson: spec.anderson.unwrap_or(0),
         }
     }
 
@@ -89,6 +96,16 @@ impl Settings {
         }
         if self.max_iter == 0 {
             return Err(LopinError::setting("max_iter", "must be at least 1"));
+        }
+        if self.anderson > Self::MAX_ANDERSON {
+            return Err(LopinError::setting(
+                "anderson",
+                format!(
+                    "depth {} is more than {} (each level keeps two copies of the interface state)",
+                    self.anderson,
+                    Self::MAX_ANDERSON
+                ),
+            ));
         }
         if self.window == Some(0) {
             return Err(LopinError::setting("window", "must be at least 1 step"));
