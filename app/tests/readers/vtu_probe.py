@@ -36,6 +36,7 @@ def main():
             "x": m.points[node].tolist(),
             "displacement": pd["displacement"][node].tolist(),
             "velocity": pd["velocity"][node].tolist(),
+            "velocity_avg": pd["velocity_avg"][node].tolist(),
             "von_mises": cd["von_mises"][cell].tolist(),
             "stress": cd["stress"][cell].tolist(),
             "substructure": cd["substructure"][cell].tolist(),
