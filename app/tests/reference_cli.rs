@@ -67,17 +67,28 @@ fn accuracy_writes_csv_and_png() {
         .skip(1)
         .map(|l| l.split(',').collect())
         .collect();
-    assert_eq!(rows.len(), 1 + 3 + 3, "{csv}");
+    // the reference, then 3 tolerances of each: whole interval on η, on η̄, incremental
+    assert_eq!(rows.len(), 1 + 3 + 3 + 3, "{csv}");
     let errors = |method: &str| -> Vec<f64> {
         rows.iter()
             .filter(|r| r[2] == method)
             .map(|r| r[7].parse().expect("error"))
             .collect()
     };
-    for method in ["latin", "latin-incremental"] {
+    for method in ["latin", "latin-smooth", "latin-incremental"] {
         let e = errors(method);
         assert!(e[0] > e[1] && e[1] > e[2], "{method}: {e:?}");
     }
+    // every LATIN row carries the field errors (displacement, column 9), falling with the
+    // tolerance; the reference's are empty
+    assert_eq!(rows[0][9], "");
+    let u: Vec<f64> = rows[1..4]
+        .iter()
+        .map(|r| r[9].parse().expect("displacement error"))
+        .collect();
+    assert!(u[0] > u[1] && u[1] > u[2], "{u:?}");
+    let fields = std::fs::read(dir.join("accuracy-fields.png")).expect("fields png");
+    assert_eq!(&fields[..8], b"\x89PNG\r\n\x1a\n");
     // the bar has an exact solution: every row carries the error against it, above the floor
     let floor: f64 = rows[0][8].parse().expect("floor");
     assert!(floor > 0.0 && floor < 0.2, "{floor}");

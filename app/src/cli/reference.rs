@@ -95,7 +95,8 @@ impl ReferenceRun {
             peak_memory_bytes: super::report::peak_memory_bytes(),
             iterations: sol.sweeps,
             eta: sol.contact_change,
-            eta_smooth: None,
+            // no LATIN indicator: both carry the contact iteration's last relative change
+            eta_smooth: Some(sol.contact_change),
             converged: true,
             wall_s: self.time_s() + self.post_s,
             stages_s: Stages {
