@@ -22,7 +22,7 @@ use clap::Args;
 use lopin_core::counters::Instant;
 use lopin_core::indicator::StopTest;
 use lopin_core::{post, Settings, Solution, Solver};
-use lopin_reference::compare::compare;
+use lopin_reference::compare::{compare, Comparison};
 use lopin_reference::exact::{l2_error, BarExact};
 use lopin_reference::monolithic::Monolithic;
 
@@ -62,33 +62,19 @@ pub struct Point {
     pub error_reference: f64,
     pub error_exact: Option<f64>,
     /// Every difference against the reference (None for the reference itself).
-    pub fields: Option<FieldErrors>,
+    pub fields: Option<Comparison>,
 }
 
-/// The differences against the reference of one LATIN solution
-/// (`lopin_reference::compare::Comparison`).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct FieldErrors {
-    pub displacement: f64,
-    pub velocity: f64,
-    pub velocity_avg: f64,
-    pub force: f64,
-    pub energy: f64,
-    pub contact_force: f64,
-}
-
-impl FieldErrors {
-    /// The fields, named as in the CSV and the figure.
-    pub fn named(&self) -> [(&'static str, f64); 6] {
-        [
-            ("displacement", self.displacement),
-            ("velocity", self.velocity),
-            ("velocity_avg", self.velocity_avg),
-            ("force_avg", self.force),
-            ("energy", self.energy),
-            ("contact_force", self.contact_force),
-        ]
-    }
+/// The differences of a comparison drawn and tabulated per field, named as in the figure.
+pub fn field_errors(c: &Comparison) -> [(&'static str, f64); 6] {
+    [
+        ("displacement", c.rel_diff_displacement),
+        ("velocity", c.rel_diff_velocity),
+        ("velocity_avg", c.rel_diff_velocity_avg),
+        ("force_avg", c.rel_diff_force),
+        ("energy", c.rel_diff_energy),
+        ("contact_force", c.rel_diff_contact_force),
+    ]
 }
 
 pub fn accuracy(args: &AccuracyArgs) -> anyhow::Result<ExitCode> {
@@ -159,14 +145,7 @@ pub fn accuracy(args: &AccuracyArgs) -> anyhow::Result<ExitCode> {
             time_s,
             error_reference: c.rel_diff_velocity,
             error_exact: error_exact(solver, sol),
-            fields: Some(FieldErrors {
-                displacement: c.rel_diff_displacement,
-                velocity: c.rel_diff_velocity,
-                velocity_avg: c.rel_diff_velocity_avg,
-                force: c.rel_diff_force,
-                energy: c.rel_diff_energy,
-                contact_force: c.rel_diff_contact_force,
-            }),
+            fields: Some(c),
         };
         eprintln!(
             "{method} tol {tol:.0e}: {iterations} iterations, {time_s:.3} s, error {:.3e}",
@@ -286,11 +265,11 @@ fn write_csv(
             time_s: format!("{:.6}", p.time_s),
             error_reference: format!("{:e}", p.error_reference),
             error_exact: p.error_exact.map_or(String::new(), |e| format!("{e:e}")),
-            error_displacement: field(p, |f| f.displacement),
-            error_velocity_avg: field(p, |f| f.velocity_avg),
-            error_force_avg: field(p, |f| f.force),
-            error_energy: field(p, |f| f.energy),
-            error_contact_force: field(p, |f| f.contact_force),
+            error_displacement: field(p, |c| c.rel_diff_displacement),
+            error_velocity_avg: field(p, |c| c.rel_diff_velocity_avg),
+            error_force_avg: field(p, |c| c.rel_diff_force),
+            error_energy: field(p, |c| c.rel_diff_energy),
+            error_contact_force: field(p, |c| c.rel_diff_contact_force),
         })?;
     }
     w.flush()?;
@@ -298,7 +277,7 @@ fn write_csv(
 }
 
 /// One field's error of a point, `{:e}`, empty for the reference.
-fn field(p: &Point, pick: impl Fn(&FieldErrors) -> f64) -> String {
+fn field(p: &Point, pick: impl Fn(&Comparison) -> f64) -> String {
     p.fields
         .as_ref()
         .map_or(String::new(), |f| format!("{:e}", pick(f)))
@@ -336,11 +315,11 @@ fn table(points: &[Point]) -> String {
                 || vec!["-".to_string(); 5],
                 |f| {
                     [
-                        f.displacement,
-                        f.velocity_avg,
-                        f.force,
-                        f.energy,
-                        f.contact_force,
+                        f.rel_diff_displacement,
+                        f.rel_diff_velocity_avg,
+                        f.rel_diff_force,
+                        f.rel_diff_energy,
+                        f.rel_diff_contact_force,
                     ]
                     .map(|e| format!("{e:.2e}"))
                     .to_vec()

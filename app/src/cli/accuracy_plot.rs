@@ -4,11 +4,13 @@
 //! own error against the exact solution (the discretization floor) as a horizontal one; and the
 //! iterations-against-error figure of every field ([`plot_fields`]).
 
+use std::ops::Range;
 use std::path::Path;
 
+use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::accuracy::Point;
+use super::accuracy::{field_errors, Point};
 use super::plot::{err, fonts};
 
 const FLOOR: f64 = 1e-14;
@@ -43,34 +45,21 @@ pub fn plot(path: &Path, title: &str, points: &[Point]) -> anyhow::Result<()> {
     let ((tmin, tmax), (emin, emax)) = extent(&all);
     let root = BitMapBackend::new(path, (1000, 640)).into_drawing_area();
     root.fill(&WHITE).map_err(err)?;
-    let mut chart = ChartBuilder::on(&root)
-        .caption(
-            format!("run time against error: {title}"),
-            ("sans-serif", 22),
-        )
-        .margin(14)
-        .x_label_area_size(44)
-        .y_label_area_size(70)
-        .build_cartesian_2d(
-            (tmin / 1.5..tmax * 1.5).log_scale(),
-            (emin / 3.0..emax * 3.0).log_scale(),
-        )
-        .map_err(err)?;
-    chart
-        .configure_mesh()
-        .x_desc("wall time (s), setup included")
-        .y_desc("relative error")
-        .x_label_formatter(&|x| {
-            if *x < 0.1 {
-                format!("{x:.3}")
-            } else {
-                format!("{x:.2}")
-            }
-        })
-        .y_label_formatter(&|y| format!("{y:.0e}"))
-        .label_style(("sans-serif", 15))
-        .draw()
-        .map_err(err)?;
+    let x_label = |x: &f64| {
+        if *x < 0.1 {
+            format!("{x:.3}")
+        } else {
+            format!("{x:.2}")
+        }
+    };
+    let mut chart = log_log_chart(
+        &root,
+        format!("run time against error: {title}"),
+        tmin / 1.5..tmax * 1.5,
+        emin / 3.0..emax * 3.0,
+        ("wall time (s), setup included", "relative error"),
+        &x_label,
+    )?;
     if let Some(r) = reference {
         chart
             .draw_series(DashedLineSeries::new(
@@ -199,7 +188,7 @@ pub fn plot_fields(path: &Path, title: &str, points: &[Point]) -> anyhow::Result
             .iter()
             .filter(|p| p.method == method)
             .filter_map(|p| {
-                let e = p.fields?.named()[field].1;
+                let e = field_errors(p.fields.as_ref()?)[field].1;
                 (e > 0.0).then_some((p.iterations.max(1) as f64, e.max(FLOOR)))
             })
             .collect()
@@ -215,28 +204,17 @@ pub fn plot_fields(path: &Path, title: &str, points: &[Point]) -> anyhow::Result
     let ((xmin, xmax), (emin, emax)) = extent(&all);
     let root = BitMapBackend::new(path, (1000, 640)).into_drawing_area();
     root.fill(&WHITE).map_err(err)?;
-    let mut chart = ChartBuilder::on(&root)
-        .caption(
-            format!("error of each field against iterations: {title}"),
-            ("sans-serif", 22),
-        )
-        .margin(14)
-        .x_label_area_size(44)
-        .y_label_area_size(70)
-        .build_cartesian_2d(
-            (xmin / 1.3..xmax * 1.3).log_scale(),
-            (emin / 3.0..emax * 3.0).log_scale(),
-        )
-        .map_err(err)?;
-    chart
-        .configure_mesh()
-        .x_desc("LATIN iterations (whole interval, cumulative over the tolerances)")
-        .y_desc("relative difference from the reference")
-        .x_label_formatter(&|x| format!("{x:.0}"))
-        .y_label_formatter(&|y| format!("{y:.0e}"))
-        .label_style(("sans-serif", 15))
-        .draw()
-        .map_err(err)?;
+    let mut chart = log_log_chart(
+        &root,
+        format!("error of each field against iterations: {title}"),
+        xmin / 1.3..xmax * 1.3,
+        emin / 3.0..emax * 3.0,
+        (
+            "LATIN iterations (whole interval, cumulative over the tolerances)",
+            "relative difference from the reference",
+        ),
+        &|x: &f64| format!("{x:.0}"),
+    )?;
     for (mi, (method, how)) in methods.iter().enumerate() {
         for (f, colour) in colours.iter().copied().enumerate() {
             let s = series(method, f);
@@ -275,6 +253,39 @@ pub fn plot_fields(path: &Path, title: &str, points: &[Point]) -> anyhow::Result
     Ok(())
 }
 
+/// A chart with logarithmic axes drawn into a bitmap.
+type LogLogChart<'r, 'p> =
+    ChartContext<'r, BitMapBackend<'p>, Cartesian2d<LogCoord<f64>, LogCoord<f64>>>;
+
+/// A log–log chart of both figures on `root`: caption, margins, the mesh with axis descriptions
+/// (x, y), x labels by `x_label` and y labels as powers of ten.
+fn log_log_chart<'r, 'p>(
+    root: &'r DrawingArea<BitMapBackend<'p>, Shift>,
+    caption: String,
+    x: Range<f64>,
+    y: Range<f64>,
+    (x_desc, y_desc): (&str, &str),
+    x_label: &dyn Fn(&f64) -> String,
+) -> anyhow::Result<LogLogChart<'r, 'p>> {
+    let mut chart = ChartBuilder::on(root)
+        .caption(caption, ("sans-serif", 22))
+        .margin(14)
+        .x_label_area_size(44)
+        .y_label_area_size(70)
+        .build_cartesian_2d(x.log_scale(), y.log_scale())
+        .map_err(err)?;
+    chart
+        .configure_mesh()
+        .x_desc(x_desc)
+        .y_desc(y_desc)
+        .x_label_formatter(x_label)
+        .y_label_formatter(&|y| format!("{y:.0e}"))
+        .label_style(("sans-serif", 15))
+        .draw()
+        .map_err(err)?;
+    Ok(chart)
+}
+
 /// The ranges (min, max) of the x and of the y values of `points`.
 fn extent(points: &[(f64, f64)]) -> ((f64, f64), (f64, f64)) {
     points.iter().fold(
@@ -283,7 +294,7 @@ fn extent(points: &[(f64, f64)]) -> ((f64, f64), (f64, f64)) {
     )
 }
 
-/// Readable names of [`super::accuracy::FieldErrors::named`], in its order.
+/// Readable names of [`super::accuracy::field_errors`], in its order.
 const FIELD_LABELS: [&str; 6] = [
     "displacement",
     "velocity",

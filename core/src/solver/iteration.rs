@@ -74,8 +74,9 @@ pub struct SolveRun {
     norm_smooth: WindowNorm,
     /// Last η̄.
     eta_smooth: f64,
-    /// The Anderson history of the window (None: plain relaxation).
-    anderson: Option<Anderson>,
+    /// The Anderson history of the window and the η weight of each entry of its flat vectors
+    /// (set at the window's first iteration; None: plain relaxation).
+    anderson: Option<(Anderson, Vec<f64>)>,
     /// Whether every finished window converged.
     converged: bool,
     /// Whether an observer stopped it.
@@ -202,7 +203,8 @@ impl Solver {
             window_smooth: IndicatorSums::default(),
             norm_smooth: WindowNorm::new(self.settings.per_step_window_norm),
             eta_smooth: f64::INFINITY,
-            anderson: (self.settings.anderson > 0).then(|| Anderson::new(self.settings.anderson)),
+            anderson: (self.settings.anderson > 0)
+                .then(|| (Anderson::new(self.settings.anderson), Vec::new())),
             converged: true,
             cancelled: false,
             done: false,
@@ -352,12 +354,13 @@ impl SolveRun {
         let steps = (self.m0, self.m1);
         match &mut self.anderson {
             None => relax(&mut self.s, &self.s_new, mu, steps),
-            Some(acc) => {
+            Some((acc, weights)) => {
                 if self.it == 1 {
                     acc.reset();
+                    *weights = window_weights(problem, k, &self.s, steps);
                 }
-                let (mut x, g, w) = flatten(problem, k, &self.s, &self.s_new, steps);
-                acc.step(&mut x, &g, &w, mu);
+                let (mut x, g) = (flatten(&self.s, steps), flatten(&self.s_new, steps));
+                acc.step(&mut x, &g, weights, mu);
                 unflatten(&mut self.s, &x, steps);
             }
         }
@@ -416,22 +419,27 @@ impl SolveRun {
     }
 }
 
-/// s and s_new on steps m0..=m1 as flat vectors (every substructure's F then W, step-major),
-/// with the η weight of each entry: A/k_j on forces, A k_j on velocities (METHOD §6).
-fn flatten(
+/// A state on steps m0..=m1 as one flat vector: every substructure's F then W, step-major.
+fn flatten(s: &InterfaceState, (m0, m1): (usize, usize)) -> Vec<f64> {
+    let mut x = Vec::new();
+    for h in &s.subs {
+        let r = m0 * h.len..(m1 + 1) * h.len;
+        x.extend_from_slice(&h.f[r.clone()]);
+        x.extend_from_slice(&h.w[r]);
+    }
+    x
+}
+
+/// The η weight of each entry of [`flatten`]'s vector: A/k_j on forces, A k_j on velocities
+/// (METHOD §6).
+fn window_weights(
     problem: &Problem,
     k: f64,
     s: &InterfaceState,
-    s_new: &InterfaceState,
     (m0, m1): (usize, usize),
-) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
-    let (mut x, mut g, mut w) = (Vec::new(), Vec::new(), Vec::new());
-    for ((h, hn), sub) in s.subs.iter().zip(&s_new.subs).zip(&problem.subs) {
-        let r = m0 * h.len..(m1 + 1) * h.len;
-        x.extend_from_slice(&h.f[r.clone()]);
-        x.extend_from_slice(&h.w[r.clone()]);
-        g.extend_from_slice(&hn.f[r.clone()]);
-        g.extend_from_slice(&hn.w[r]);
+) -> Vec<f64> {
+    let mut w = Vec::new();
+    for (h, sub) in s.subs.iter().zip(&problem.subs) {
         let weight = |j: usize, force: bool| {
             let kj = k * sub.trace_k[j];
             sub.trace_area[j] * if force { 1.0 / kj } else { kj }
@@ -442,7 +450,7 @@ fn flatten(
             }
         }
     }
-    (x, g, w)
+    w
 }
 
 /// Writes the flat vector of [`flatten`] back into s on steps m0..=m1.

@@ -151,14 +151,10 @@ impl Monolithic {
             .iter()
             .enumerate()
             .map(|(s, sub)| {
-                let nd = sub.ndof();
-                let gather = |x: &[f64]| -> Vec<f64> {
-                    (0..nd).map(|d| x[self.asm.numbering.dof(s, d)]).collect()
-                };
-                let (u, a) = (gather(&sol.u[m]), gather(&inertia));
-                let mut f = vec![0.0; nd];
+                let (u, a) = (self.gather(&sol.u[m], s), self.gather(&inertia, s));
+                let mut f = vec![0.0; sub.ndof()];
                 sub.stiffness.mul_into(&u, &mut f);
-                for d in 0..nd {
+                for d in 0..sub.ndof() {
                     f[d] += sub.mass[d] * a[d];
                 }
                 f
@@ -168,8 +164,18 @@ impl Monolithic {
 
     /// Velocity of every dof of substructure `s` at step m.
     pub fn sub_velocity(&self, sol: &MonoSolution, m: usize, s: usize) -> Vec<f64> {
+        self.gather(&sol.v[m], s)
+    }
+
+    /// Displacement of every dof of substructure `s` at step m.
+    pub fn sub_displacement(&self, sol: &MonoSolution, m: usize, s: usize) -> Vec<f64> {
+        self.gather(&sol.u[m], s)
+    }
+
+    /// The values of a global field on the dofs of substructure `s`.
+    fn gather(&self, x: &[f64], s: usize) -> Vec<f64> {
         (0..self.problem.subs[s].ndof())
-            .map(|d| sol.v[m][self.asm.numbering.dof(s, d)])
+            .map(|d| x[self.asm.numbering.dof(s, d)])
             .collect()
     }
 }
