@@ -18,42 +18,9 @@
 //! x_m = (−1)^m c, has x̄ = 0 and so leaves η̄ untouched while it keeps η up (METHOD §10).
 //! [`StopTest`] says which of the two the stopping test reads.
 
-use crate::error::{LopinError, Result};
 use crate::interface::Interface;
 use crate::state::{InterfaceState, TraceHistory};
-
-/// Which indicator ends a window (METHOD §6 stopping test).
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum StopTest {
-    /// η on the fields themselves (METHOD §6 as written).
-    #[default]
-    Eta,
-    /// η̄ on step-averaged fields: blind to the alternating mode.
-    Smooth,
-}
-
-impl StopTest {
-    /// Parses `eta` or `smooth`.
-    pub fn parse(name: &str) -> Result<Self> {
-        match name {
-            "eta" => Ok(Self::Eta),
-            "smooth" => Ok(Self::Smooth),
-            _ => Err(LopinError::setting(
-                "stop",
-                format!("unknown stopping test `{name}` (eta, smooth)"),
-            )),
-        }
-    }
-
-    /// Name.
-    pub fn name(&self) -> &'static str {
-        match self {
-            Self::Eta => "eta",
-            Self::Smooth => "smooth",
-        }
-    }
-}
+pub use crate::stop_test::StopTest;
 
 /// The η̄ sums of steps m0..=m1: the terms of η on the step averages
 /// ((x_m + x_{m−1})/2) of the linear-stage output `s_new` (per substructure trace) and ŝ (per

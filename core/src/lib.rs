@@ -57,6 +57,7 @@ pub mod solver;
 pub mod sparse;
 #[cfg(feature = "latin")]
 pub mod state;
+pub mod stop_test;
 pub mod substructure;
 #[cfg(feature = "latin")]
 pub mod sweep;

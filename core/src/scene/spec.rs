@@ -86,7 +86,7 @@ pub struct SolverSpec {
     /// Which indicator ends a window: `eta` (METHOD §6) or `smooth` (η̄ on step-averaged
     /// fields, [`crate::indicator`]); absent: eta.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub stop: Option<crate::indicator::StopTest>,
+    pub stop: Option<crate::stop_test::StopTest>,
     /// Depth of the Anderson acceleration of the relaxation (absent or 0: plain relaxation,
     /// [`crate::acceleration`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
