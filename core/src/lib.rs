@@ -64,6 +64,7 @@ pub mod sweep;
 pub mod time_function;
 pub mod time_scheme;
 pub mod window_choice;
+pub mod window_start;
 
 pub use error::{LopinError, Result};
 pub use parameter::Parameter;

@@ -4,6 +4,7 @@
 
 use lopin_core::post;
 use lopin_core::time_function::{Ramp, TimeFunction, TimeGrid};
+use lopin_core::window_start::WindowStart;
 use lopin_tests::bar1d::{Bar1d, Segment};
 use lopin_tests::mono1d::{self, Chain};
 use lopin_tests::{elements_along_x, impact_2a, plateau, solve};
@@ -286,7 +287,7 @@ fn check_counts(
             s.mu = 1.0;
             s.window = window;
             // METHOD's windows start from F = W = 0 and normalize η cumulatively
-            s.hold_window_start = false;
+            s.window_start = WindowStart::Zero;
             s.per_step_window_norm = false;
         });
         println!(

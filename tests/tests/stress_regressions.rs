@@ -6,6 +6,7 @@
 
 use lopin_core::post;
 use lopin_core::scene::{self, SceneSpec};
+use lopin_core::window_start::WindowStart;
 use lopin_tests::solve;
 
 fn test_scene(name: &str) -> SceneSpec {
@@ -13,16 +14,21 @@ fn test_scene(name: &str) -> SceneSpec {
 }
 
 /// Defect: each cold time window started from F = W = 0 (the plain METHOD §7 variant) and paid
-/// for it in iterations: 2× in incremental runs. Fix: `Settings::hold_window_start` (default on)
-/// starts a window from the last converged step held constant. `mini-blocks` incremental
-/// (window 1, η < 1e-3): 667 iterations held, 1361 from zero (measured).
+/// for it in iterations: 2× in incremental runs. Fix: `Settings::window_start` starts a window
+/// from the last converged step held constant (`Hold`; the default now extrapolates from it,
+/// `tests/tests/window_start.rs`). `mini-blocks` incremental (window 1, η < 1e-3): 667
+/// iterations held, 1361 from zero (measured).
 #[test]
 fn incremental_cold_window_starts_held_not_zero() {
     let spec = test_scene("mini-blocks");
     let run = |hold: bool| {
         let (_, sol) = solve(&spec, |s| {
             s.window = Some(1);
-            s.hold_window_start = hold;
+            s.window_start = if hold {
+                WindowStart::Hold
+            } else {
+                WindowStart::Zero
+            };
         });
         assert!(sol.converged, "hold {hold}: eta {}", sol.eta);
         sol.iterations

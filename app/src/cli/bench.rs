@@ -49,6 +49,7 @@ pub fn bench(args: &BenchArgs) -> anyhow::Result<ExitCode> {
             directions: None,
             stop: None,
             anderson: None,
+            window_start: None,
             refine,
             split: 1,
             window: Some(WindowRequest::Whole),

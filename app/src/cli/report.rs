@@ -110,6 +110,8 @@ pub struct LatinSettings {
     pub stop: lopin_core::indicator::StopTest,
     /// Anderson depth (0: plain relaxation).
     pub anderson: usize,
+    /// Where cold windows start.
+    pub window_start: lopin_core::window_start::WindowStart,
     /// Why these windows (absent where the command set them itself).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub window_reason: Option<String>,
@@ -168,6 +170,7 @@ impl<'a> RunReport<'a> {
                     directions: set.directions,
                     stop: set.stop,
                     anderson: set.anderson,
+                    window_start: set.window_start,
                     window_reason: self.windows.map(|w| w.reason.clone()),
                 },
             },
@@ -213,15 +216,18 @@ impl<'a> RunReport<'a> {
             "k, mu, tol",
             format!("{:.4e} Pa.s/m, {}, {:.0e}", set.k, set.mu, set.tol),
         );
-        rows.row(
-            "window",
-            match self.windows {
+        rows.row("window", {
+            let windows = match self.windows {
                 Some(w) => w.to_string(),
                 None => set
                     .window
                     .map_or("whole interval".to_string(), |w| format!("{w} steps")),
-            },
-        );
+            };
+            match set.window {
+                Some(_) => format!("{windows}; start {}", set.window_start.name()),
+                None => windows,
+            }
+        });
         rows.row(
             "linear stage",
             match self.macro_dofs() {

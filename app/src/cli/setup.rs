@@ -9,10 +9,15 @@ use lopin_core::indicator::StopTest;
 use lopin_core::scene::admission::{admit, Footprint, SolveShape};
 use lopin_core::search_direction::Directions;
 use lopin_core::window_choice::{choose, Task, WindowChoice, WindowRequest};
+use lopin_core::window_start::WindowStart;
 use lopin_core::{scene, LopinError, Parameter, Problem, Settings, Solver};
 
 fn parse_directions(s: &str) -> Result<Directions, String> {
     Directions::parse(s)
+}
+
+fn parse_window_start(s: &str) -> Result<WindowStart, String> {
+    WindowStart::parse(s).map_err(|e| e.to_string())
 }
 
 fn parse_stop(s: &str) -> Result<StopTest, String> {
@@ -66,6 +71,11 @@ pub struct SceneArgs {
     /// for one cold solve, the whole interval for a warm-started sweep; the report says which).
     #[arg(long, allow_negative_numbers = true, value_parser = WindowRequest::parse)]
     pub window: Option<WindowRequest>,
+    /// Where a cold time window's iteration starts: `smooth` (extrapolate the mean change of
+    /// the last two converged steps), `linear` (the last step's change), `hold` (the last step
+    /// held constant) or `zero` (default: the scene's `solver.window_start`, else smooth).
+    #[arg(long = "window-start", value_parser = parse_window_start)]
+    pub window_start: Option<WindowStart>,
     /// What the solve is for (set by the command, not an option).
     #[arg(skip)]
     pub task: Task,
@@ -267,6 +277,9 @@ pub fn build_admitted(
     }
     if let Some(v) = args.anderson {
         settings.anderson = v;
+    }
+    if let Some(v) = args.window_start {
+        settings.window_start = v;
     }
     Ok(Built {
         spec,

@@ -87,6 +87,10 @@ pub struct SolverSpec {
     /// fields, [`crate::indicator`]); absent: eta.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub stop: Option<crate::stop_test::StopTest>,
+    /// Where a cold time window's iteration starts: `zero`, `hold`, `linear` or `smooth`
+    /// ([`crate::window_start`]); absent: smooth.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub window_start: Option<crate::window_start::WindowStart>,
     /// Depth of the Anderson acceleration of the relaxation (absent or 0: plain relaxation,
     /// [`crate::acceleration`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]

@@ -16,9 +16,10 @@
 //!    ([`crate::indicator`]);
 //! 4. [`SolveRun::relaxation`]: s ← μ s_new + (1 − μ) s, μ = 1 at a window's first iteration
 //!    (METHOD §6), or its Anderson-accelerated form ([`crate::acceleration`]);
-//! 5. [`SolveRun::end_of_window`]: η < tol (or η̄ < tol, as [`Settings::stop`] says) moves to the next window (held start, see
-//!    [`super::Settings::hold_window_start`]); a non-finite η or the iteration limit ends the
-//!    solve unconverged.
+//! 5. [`SolveRun::end_of_window`]: η < tol (or η̄ < tol, as [`Settings::stop`] says) moves to
+//!    the next window, a cold one starting from a prediction out of the converged steps
+//!    ([`Settings::window_start`], [`crate::window_start`]); a non-finite η or the iteration
+//!    limit ends the solve unconverged.
 
 use super::linear::{LinearOutcome, LinearStage, Operators};
 use super::{non_finite, Control, Iterate, Settings, Solution, Solver};
@@ -403,16 +404,12 @@ impl SolveRun {
             self.done = true;
             return true;
         }
-        if settings.hold_window_start && !self.warm {
-            // a cold window starts from the last converged step, held constant
-            // (instead of F = W = 0): the interface state changes little over a window
+        if !self.warm {
+            // a cold window starts from a prediction out of the converged steps before it
             for h in &mut self.s.subs {
-                let prev = h.at(self.m0 - 1);
-                for m in self.m0..=self.m1 {
-                    let r = h.at(m);
-                    h.f.copy_within(prev.clone(), r.start);
-                    h.w.copy_within(prev.clone(), r.start);
-                }
+                let steps = (self.m0, self.m1);
+                settings.window_start.fill(&mut h.f, h.len, steps);
+                settings.window_start.fill(&mut h.w, h.len, steps);
             }
         }
         false

@@ -6,6 +6,7 @@ use crate::indicator::StopTest;
 use crate::problem::Problem;
 use crate::scene::spec::SolverSpec;
 use crate::search_direction::Directions;
+use crate::window_start::WindowStart;
 
 /// Solver settings (METHOD §10 defaults: k = mean √(ρE), μ = 0.8, tol = 1e-3).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -23,10 +24,12 @@ pub struct Settings {
     /// Skip the linear stage of a substructure whose interface inputs ŝ did not change (to a
     /// relative 1e-12) since its last solve over the whole interval, reusing that solve's output.
     pub skip_unchanged: bool,
-    /// On a cold start, begin each time window from the last converged step held constant
-    /// (true, default) rather than from F = W = 0 (false, the plain METHOD §7 variant; found by
-    /// the stress suite to cost 2× the iterations in incremental runs).
-    pub hold_window_start: bool,
+    /// On a cold start, where each time window's iteration begins ([`WindowStart`]): the
+    /// default extrapolates the mean change of the last two converged steps; `Zero` is the plain
+    /// METHOD §7 variant (found by the stress suite to cost 2× the iterations of `Hold` in
+    /// incremental runs).
+    #[serde(default)]
+    pub window_start: WindowStart,
     /// Normalize a window's η by its own energy plus the mean energy per step of the earlier
     /// windows times the window length (true, default), rather than by the whole energy of steps
     /// 1..m1 (false, METHOD §7): with the cumulative norm the criterion loosens as the run goes
@@ -65,7 +68,7 @@ impl Settings {
             max_iter: spec.max_iter.unwrap_or(Self::MAX_ITER),
             window: spec.window,
             skip_unchanged: true,
-            hold_window_start: true,
+            window_start: spec.window_start.unwrap_or_default(),
             per_step_window_norm: true,
             two_scale: spec.two_scale.unwrap_or(false),
             directions: spec.directions.unwrap_or_default(),

@@ -1,0 +1,148 @@
+//! Where a cold time window's iteration starts (METHOD §7; issue 19, "carry more into warm
+//! starts"): the linear-stage input s = (F, W) on the window's steps m0..=m1, predicted from the
+//! converged steps before it. With n = m − m0 + 1 the step's distance from the last converged
+//! step m0 − 1:
+//!
+//! * `zero`:   s_m = 0 (METHOD §7 as written);
+//! * `hold`:   s_m = s_{m0−1} (the last converged step held constant);
+//! * `linear`: s_m = s_{m0−1} + n (s_{m0−1} − s_{m0−2}) (extrapolated along the last step);
+//! * `smooth`: s_m = s_{m0−1} + n (s_{m0−1} − s_{m0−3}) / 2 (extrapolated along the mean slope of
+//!   the last two steps; the default).
+//!
+//! The smooth slope is the difference of the step averages s̄_{m0−1} − s̄_{m0−2} with
+//! s̄_j = (s_j + s_{j−1})/2, so the undamped rule's alternating mode (−1)^m c (METHOD §10) does
+//! not enter it, where `linear` carries it forward doubled. `linear` and `smooth` need three
+//! converged steps before m0 (m0 ≥ 3, step 0 being the initial state); before that they hold.
+//! Measured in the README ("Window start").
+
+use crate::error::{LopinError, Result};
+
+/// How a cold window's input is predicted.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum WindowStart {
+    /// F = W = 0.
+    Zero,
+    /// The last converged step held constant.
+    Hold,
+    /// Linear extrapolation of the last step's change.
+    Linear,
+    /// Extrapolation of the mean change of the last two steps (blind to the alternating mode).
+    #[default]
+    Smooth,
+}
+
+impl WindowStart {
+    /// Every start, in the order the help lists them.
+    pub const ALL: [Self; 4] = [Self::Zero, Self::Hold, Self::Linear, Self::Smooth];
+
+    /// Parses `zero`, `hold`, `linear` or `smooth`.
+    pub fn parse(name: &str) -> Result<Self> {
+        Self::ALL
+            .into_iter()
+            .find(|s| s.name() == name)
+            .ok_or_else(|| {
+                LopinError::setting(
+                    "window_start",
+                    format!("unknown window start `{name}` (zero, hold, linear, smooth)"),
+                )
+            })
+    }
+
+    /// Name.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::Zero => "zero",
+            Self::Hold => "hold",
+            Self::Linear => "linear",
+            Self::Smooth => "smooth",
+        }
+    }
+
+    /// Fills steps m0..=m1 of one step-major history (`len` entries per step) from the steps
+    /// before m0 (m0 ≥ 1).
+    pub fn fill(&self, data: &mut [f64], len: usize, (m0, m1): (usize, usize)) {
+        let at = |m: usize| m * len;
+        // (the step the slope is taken from, the divisor of the slope)
+        let slope = match self {
+            Self::Linear if m0 >= 3 => Some((m0 - 2, 1.0)),
+            Self::Smooth if m0 >= 3 => Some((m0 - 3, 2.0)),
+            _ => None,
+        };
+        for m in m0..=m1 {
+            let n = (m - m0 + 1) as f64;
+            for j in 0..len {
+                let last = data[at(m0 - 1) + j];
+                data[at(m) + j] = match (self, slope) {
+                    (Self::Zero, _) => 0.0,
+                    (_, Some((from, div))) => last + n * (last - data[at(from) + j]) / div,
+                    (_, None) => last,
+                };
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Two entries per step over 8 steps: x_m = a + b m plus the alternating mode c (−1)^m on
+    /// the second entry.
+    fn history(c: f64) -> Vec<f64> {
+        (0..8)
+            .flat_map(|m| {
+                let t = m as f64;
+                [1.0 + 2.0 * t, -3.0 + 0.5 * t + c * (-1f64).powi(m)]
+            })
+            .collect()
+    }
+
+    #[test]
+    fn extrapolations_are_exact_on_linear_histories() {
+        let exact = history(0.0);
+        for start in [WindowStart::Linear, WindowStart::Smooth] {
+            let mut h = exact.clone();
+            h[8..].fill(f64::NAN);
+            start.fill(&mut h, 2, (4, 7));
+            for (a, b) in h.iter().zip(&exact) {
+                assert!((a - b).abs() < 1e-12, "{start:?}: {a} vs {b}");
+            }
+        }
+    }
+
+    #[test]
+    fn smooth_ignores_the_alternating_mode_and_linear_carries_it() {
+        let (clean, noisy) = (history(0.0), history(1.0));
+        let mut s = noisy.clone();
+        WindowStart::Smooth.fill(&mut s, 2, (4, 4));
+        // the mode's value at step 3 (−1) stays as it was; no slope is added by it
+        assert!((s[9] - (clean[9] + (noisy[7] - clean[7]))).abs() < 1e-12);
+        let mut l = noisy.clone();
+        WindowStart::Linear.fill(&mut l, 2, (4, 4));
+        // linear: s_3 + (s_3 − s_2) = clean + (−1) + (−1 − 1)
+        assert!((l[9] - (clean[9] - 3.0)).abs() < 1e-12, "{}", l[9]);
+    }
+
+    #[test]
+    fn hold_zero_and_the_first_steps() {
+        let h0 = history(0.0);
+        let mut h = h0.clone();
+        WindowStart::Hold.fill(&mut h, 2, (3, 5));
+        assert_eq!(&h[6..12], &[h0[4], h0[5], h0[4], h0[5], h0[4], h0[5]]);
+        let mut z = h0.clone();
+        WindowStart::Zero.fill(&mut z, 2, (3, 5));
+        assert!(z[6..12].iter().all(|x| *x == 0.0));
+        // before three converged steps an extrapolation holds
+        for start in [WindowStart::Linear, WindowStart::Smooth] {
+            let mut e = h0.clone();
+            start.fill(&mut e, 2, (2, 2));
+            assert_eq!(&e[4..6], &h0[2..4]);
+        }
+        for s in WindowStart::ALL {
+            assert_eq!(WindowStart::parse(s.name()).ok(), Some(s));
+        }
+        let e = WindowStart::parse("cubic").expect_err("unknown");
+        assert!(e.to_string().contains("cubic"), "{e}");
+    }
+}
