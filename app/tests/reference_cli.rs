@@ -67,15 +67,21 @@ fn accuracy_writes_csv_and_png() {
         .skip(1)
         .map(|l| l.split(',').collect())
         .collect();
-    // the reference, then 3 tolerances of each: whole interval on η, on η̄, incremental
-    assert_eq!(rows.len(), 1 + 3 + 3 + 3, "{csv}");
+    // the reference, then 3 tolerances of each: whole interval on η, on η̄, incremental with the
+    // default (smooth) and the held window start
+    assert_eq!(rows.len(), 1 + 3 + 3 + 3 + 3, "{csv}");
     let errors = |method: &str| -> Vec<f64> {
         rows.iter()
             .filter(|r| r[2] == method)
             .map(|r| r[7].parse().expect("error"))
             .collect()
     };
-    for method in ["latin", "latin-smooth", "latin-incremental"] {
+    for method in [
+        "latin",
+        "latin-smooth",
+        "latin-incremental",
+        "latin-incremental-hold",
+    ] {
         let e = errors(method);
         assert!(e[0] > e[1] && e[1] > e[2], "{method}: {e:?}");
     }

@@ -14,7 +14,11 @@ fn solve(start: WindowStart, tol: f64) -> (Solver, lopin_core::Solution) {
     let spec = scene::load("two-blocks").expect("scene");
     let problem = scene::build::build(&spec, &spec.name).expect("scene builds");
     let mut settings = Settings::for_problem(&problem, &spec.solver);
-    assert_eq!(settings.window_start, WindowStart::Smooth, "the default");
+    assert_eq!(settings.window_start, WindowStart::Auto, "the default");
+    assert_eq!(
+        settings.window_start.resolve(tol.min(1e-3)),
+        WindowStart::Smooth
+    );
     settings.tol = tol;
     settings.window = Some(1);
     settings.window_start = start;
@@ -27,7 +31,8 @@ fn solve(start: WindowStart, tol: f64) -> (Solver, lopin_core::Solution) {
 #[test]
 fn extrapolated_starts_cut_the_one_step_iterations() {
     let its = WindowStart::ALL.map(|s| solve(s, 1e-3).1.iterations);
-    let [zero, hold, linear, smooth] = its;
+    let [zero, hold, linear, smooth, auto] = its;
+    assert_eq!(auto, smooth, "auto extrapolates at 1e-3");
     eprintln!("η < 1e-3: zero {zero}, hold {hold}, linear {linear}, smooth {smooth}");
     assert!(2 * zero > 3 * hold, "zero {zero} vs hold {hold}");
     assert!(

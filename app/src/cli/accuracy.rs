@@ -1,5 +1,6 @@
 //! `lopin accuracy`: run time against error. LATIN (whole interval stopped on η, whole interval
-//! stopped on η̄ — the indicator on step-averaged fields —, and incremental with window 1) at
+//! stopped on η̄ — the indicator on step-averaged fields —, and incremental with window 1, once
+//! with the run's window start (default: smooth extrapolation) and once with the held start) at
 //! tolerances 1e-1 … 1e-8, each result compared with the monolithic reference (max relative
 //! nodal-velocity difference over space–time, and the differences the alternating mode cannot
 //! touch: displacements, step-averaged velocities, step-averaged interface forces, energy,
@@ -21,6 +22,7 @@ use anyhow::Context;
 use clap::Args;
 use lopin_core::counters::Instant;
 use lopin_core::indicator::StopTest;
+use lopin_core::window_start::WindowStart;
 use lopin_core::{post, Settings, Solution, Solver};
 use lopin_reference::compare::{compare, Comparison};
 use lopin_reference::exact::{l2_error, BarExact};
@@ -179,8 +181,16 @@ pub fn accuracy(args: &AccuracyArgs) -> anyhow::Result<ExitCode> {
         }
     }
 
-    // incremental: cold per tolerance
-    if !args.no_incremental {
+    // incremental: cold per tolerance, with the run's window start (default smooth) and, beside
+    // it, the held start it replaced
+    let starts = [
+        ("latin-incremental", built.settings.window_start),
+        ("latin-incremental-hold", WindowStart::Hold),
+    ];
+    for (method, window_start) in starts.into_iter().filter(|_| !args.no_incremental) {
+        if method != "latin-incremental" && window_start == built.settings.window_start {
+            continue;
+        }
         let clock = Instant::now();
         let mut solver = Solver::new(built.problem.clone(), built.settings)?;
         let setup_s = built.build_s + clock.elapsed().as_secs_f64();
@@ -189,19 +199,13 @@ pub fn accuracy(args: &AccuracyArgs) -> anyhow::Result<ExitCode> {
                 tol,
                 window: Some(1),
                 max_iter: 100_000,
+                window_start,
                 ..built.settings
             })?;
             let clock = Instant::now();
             let sol = solver.solve(None)?;
             let time_s = setup_s + clock.elapsed().as_secs_f64();
-            points.push(point(
-                "latin-incremental",
-                tol,
-                sol.iterations,
-                time_s,
-                &solver,
-                &sol,
-            ));
+            points.push(point(method, tol, sol.iterations, time_s, &solver, &sol));
         }
     }
 

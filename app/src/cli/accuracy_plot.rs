@@ -1,5 +1,6 @@
 //! The run-time-against-error figure of `lopin accuracy`: log–log, error against wall time, one
-//! curve per method (LATIN whole interval, LATIN incremental) and per yardstick (reference solid,
+//! curve per method (LATIN whole interval, LATIN incremental with the run's window start and with
+//! the held start) and per yardstick (reference solid,
 //! exact solution dashed when there is one), the reference's own time as a vertical line and its
 //! own error against the exact solution (the discretization floor) as a horizontal one; and the
 //! iterations-against-error figure of every field ([`plot_fields`]).
@@ -14,6 +15,14 @@ use super::accuracy::{field_errors, Point};
 use super::plot::{err, fonts};
 
 const FLOOR: f64 = 1e-14;
+
+/// The LATIN curves `lopin accuracy` draws, by method name.
+const LATIN_METHODS: [&str; 4] = [
+    "latin",
+    "latin-smooth",
+    "latin-incremental",
+    "latin-incremental-hold",
+];
 
 pub fn plot(path: &Path, title: &str, points: &[Point]) -> anyhow::Result<()> {
     fonts();
@@ -32,7 +41,7 @@ pub fn plot(path: &Path, title: &str, points: &[Point]) -> anyhow::Result<()> {
             })
             .collect()
     };
-    let all: Vec<(f64, f64)> = ["latin", "latin-smooth", "latin-incremental"]
+    let all: Vec<(f64, f64)> = LATIN_METHODS
         .iter()
         .flat_map(|m| {
             let mut v = series(m, false);
@@ -91,39 +100,45 @@ pub fn plot(path: &Path, title: &str, points: &[Point]) -> anyhow::Result<()> {
                 });
         }
     }
-    let curves: [(&str, bool, RGBColor, &str); 6] = [
-        ("latin", false, RED, "LATIN, whole interval: vs reference"),
+    // (method, what it is, colour against the reference, colour against the exact solution)
+    let methods: [(&str, &str, RGBColor, RGBColor); 4] = [
+        ("latin", "whole interval", RED, RGBColor(230, 120, 0)),
         (
             "latin-smooth",
-            false,
+            "whole interval, stop on η̄",
             RGBColor(140, 60, 170),
-            "LATIN, whole interval, stop on η̄: vs reference",
-        ),
-        (
-            "latin-incremental",
-            false,
-            BLUE,
-            "LATIN, incremental: vs reference",
-        ),
-        (
-            "latin",
-            true,
-            RGBColor(230, 120, 0),
-            "LATIN, whole interval: vs exact",
-        ),
-        (
-            "latin-incremental",
-            true,
-            RGBColor(0, 150, 150),
-            "LATIN, incremental: vs exact",
-        ),
-        (
-            "latin-smooth",
-            true,
             RGBColor(200, 120, 200),
-            "LATIN, whole interval, stop on η̄: vs exact",
+        ),
+        (
+            "latin-incremental",
+            "incremental",
+            BLUE,
+            RGBColor(0, 150, 150),
+        ),
+        (
+            "latin-incremental-hold",
+            "incremental, held window start",
+            RGBColor(90, 160, 255),
+            RGBColor(120, 200, 120),
         ),
     ];
+    let curves = [false, true].into_iter().flat_map(|exact| {
+        methods
+            .iter()
+            .map(move |&(method, what, vs_ref, vs_exact)| {
+                let (colour, yardstick) = if exact {
+                    (vs_exact, "exact")
+                } else {
+                    (vs_ref, "reference")
+                };
+                (
+                    method,
+                    exact,
+                    colour,
+                    format!("LATIN, {what}: vs {yardstick}"),
+                )
+            })
+    });
     for (method, exact, colour, label) in curves {
         let s = series(method, exact);
         if s.is_empty() {

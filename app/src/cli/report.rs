@@ -224,7 +224,18 @@ impl<'a> RunReport<'a> {
                     .map_or("whole interval".to_string(), |w| format!("{w} steps")),
             };
             match set.window {
-                Some(_) => format!("{windows}; start {}", set.window_start.name()),
+                Some(_) => {
+                    let start = set.window_start.resolve(set.tol);
+                    if start == set.window_start {
+                        format!("{windows}; start {}", start.name())
+                    } else {
+                        format!(
+                            "{windows}; start {} (auto at tol {:.0e})",
+                            start.name(),
+                            set.tol
+                        )
+                    }
+                }
                 None => windows,
             }
         });

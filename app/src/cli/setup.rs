@@ -73,7 +73,8 @@ pub struct SceneArgs {
     pub window: Option<WindowRequest>,
     /// Where a cold time window's iteration starts: `smooth` (extrapolate the mean change of
     /// the last two converged steps), `linear` (the last step's change), `hold` (the last step
-    /// held constant) or `zero` (default: the scene's `solver.window_start`, else smooth).
+    /// held constant), `zero`, or `auto` (smooth at --tol 1e-3 and tighter, hold above; default:
+    /// the scene's `solver.window_start`, else auto).
     #[arg(long = "window-start", value_parser = parse_window_start)]
     pub window_start: Option<WindowStart>,
     /// What the solve is for (set by the command, not an option).

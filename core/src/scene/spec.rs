@@ -87,8 +87,8 @@ pub struct SolverSpec {
     /// fields, [`crate::indicator`]); absent: eta.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub stop: Option<crate::stop_test::StopTest>,
-    /// Where a cold time window's iteration starts: `zero`, `hold`, `linear` or `smooth`
-    /// ([`crate::window_start`]); absent: smooth.
+    /// Where a cold time window's iteration starts: `zero`, `hold`, `linear`, `smooth` or
+    /// `auto` ([`crate::window_start`]); absent: auto.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub window_start: Option<crate::window_start::WindowStart>,
     /// Depth of the Anderson acceleration of the relaxation (absent or 0: plain relaxation,

@@ -370,7 +370,8 @@ impl SolveRun {
     /// Stage 5, end of window (METHOD §7): unless η < tol or the window's iteration limit is
     /// reached, the window goes on (a non-finite η has ended the solve before this stage). Otherwise its end states (substructures
     /// from the last linear stage, contacts from the last local stage) start the next window, a
-    /// cold next window starts from the last converged step held constant, and an unconverged
+    /// cold next window starts from a prediction out of the converged steps
+    /// ([`crate::window_start`]), and an unconverged
     /// window ends the solve. Returns whether the solve has ended.
     pub(crate) fn end_of_window(&mut self, linear: &LinearStage, settings: &Settings) -> bool {
         let tested = match settings.stop {
@@ -406,10 +407,11 @@ impl SolveRun {
         }
         if !self.warm {
             // a cold window starts from a prediction out of the converged steps before it
+            let start = settings.window_start.resolve(settings.tol);
             for h in &mut self.s.subs {
                 let steps = (self.m0, self.m1);
-                settings.window_start.fill(&mut h.f, h.len, steps);
-                settings.window_start.fill(&mut h.w, h.len, steps);
+                start.fill(&mut h.f, h.len, steps);
+                start.fill(&mut h.w, h.len, steps);
             }
         }
         false
