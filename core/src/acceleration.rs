@@ -29,6 +29,8 @@ pub const MAX_STALLS: usize = 2;
 
 use std::collections::VecDeque;
 
+use crate::dense::solve_spd;
+
 /// The mixing history of one window.
 #[derive(Debug, Clone)]
 pub struct Anderson {
@@ -185,28 +187,6 @@ fn dot(a: &[f64], b: &[f64], weights: &[f64]) -> f64 {
         .zip(weights)
         .map(|((x, y), w)| w * x * y)
         .sum()
-}
-
-/// Solves the small symmetric positive definite system A x = b (row-major n×n) by Cholesky.
-fn solve_spd(mut a: Vec<f64>, mut b: Vec<f64>) -> Vec<f64> {
-    let n = b.len();
-    for j in 0..n {
-        let d = (a[j * n + j] - (0..j).map(|k| a[j * n + k] * a[j * n + k]).sum::<f64>()).sqrt();
-        a[j * n + j] = d;
-        for i in j + 1..n {
-            let s: f64 = (0..j).map(|k| a[i * n + k] * a[j * n + k]).sum();
-            a[i * n + j] = (a[i * n + j] - s) / d;
-        }
-    }
-    for i in 0..n {
-        let s: f64 = (0..i).map(|k| a[i * n + k] * b[k]).sum();
-        b[i] = (b[i] - s) / a[i * n + i];
-    }
-    for i in (0..n).rev() {
-        let s: f64 = (i + 1..n).map(|k| a[k * n + i] * b[k]).sum();
-        b[i] = (b[i] - s) / a[i * n + i];
-    }
-    b
 }
 
 #[cfg(test)]

@@ -42,6 +42,16 @@ pub enum LopinError {
         /// Location of the mismatch.
         z: f64,
     },
+    /// A mesh element that cannot be used (inverted, degenerate, non-finite).
+    #[error("{}element {element}: {reason}", source_prefix(.source_name))]
+    BadElement {
+        /// The mesh file path (empty where none is known).
+        source_name: String,
+        /// The element's id in the file.
+        element: usize,
+        /// What is wrong with it.
+        reason: String,
+    },
     /// The substructure operator S could not be factorized.
     #[error(
         "substructure `{sub}`: factorization of S = 2/dt M + dt/2 K + k B^T A B failed: {reason}"

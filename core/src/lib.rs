@@ -22,6 +22,7 @@
 
 pub mod acceleration;
 pub mod counters;
+pub mod dense;
 pub mod detect;
 pub mod error;
 #[cfg(feature = "latin")]
@@ -61,6 +62,7 @@ pub mod stop_test;
 pub mod substructure;
 #[cfg(feature = "latin")]
 pub mod sweep;
+pub mod tet4;
 pub mod time_function;
 pub mod time_scheme;
 pub mod window_choice;

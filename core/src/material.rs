@@ -41,6 +41,12 @@ impl Material {
         d
     }
 
+    /// The stress D ε of a Voigt strain (xx, yy, zz, and engineering shears xy, yz, zx).
+    pub fn stress_of(&self, eps: &[f64; 6]) -> [f64; 6] {
+        let d = self.hooke();
+        std::array::from_fn(|r| (0..6).map(|c| d[r][c] * eps[c]).sum())
+    }
+
     /// Bar (1D) wave speed √(E/ρ).
     pub fn bar_speed(&self) -> f64 {
         (self.young / self.density).sqrt()
@@ -72,4 +78,17 @@ pub fn check_small_strain_speed(v: f64, (c, name): (f64, &str)) -> Result<(), St
         "{v:?} m/s is faster than the slowest wave speed of the model ({c:.4e} m/s in \
          `{name}`): the strains would not be small"
     ))
+}
+
+/// The Voigt strain (xx, yy, zz, 2xy, 2yz, 2zx) of a displacement gradient g[i][j] = ∂u_i/∂x_j
+/// (its symmetric part; the skew part is a rotation).
+pub fn voigt_strain(g: &[[f64; 3]; 3]) -> [f64; 6] {
+    [
+        g[0][0],
+        g[1][1],
+        g[2][2],
+        g[0][1] + g[1][0],
+        g[1][2] + g[2][1],
+        g[2][0] + g[0][2],
+    ]
 }
