@@ -403,3 +403,40 @@ fn bad_outputs_and_run_directories_get_clear_errors() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A scene on tetrahedra (`elements = "tet4"`) exports VTK_TETRA cells that meshio reads as
+/// `tetra` blocks: 162 per cube of `mini-impact` (27 hexahedra × 6), with finite stresses.
+#[test]
+fn tetrahedra_export_as_vtk_tetra_cells() {
+    let dir = scratch("exports-tet");
+    let scene = dir.join("mini-impact-tet.toml");
+    let o = lopin()
+        .args(["export-scene", "mini-impact"])
+        .output()
+        .expect("runs");
+    let text = String::from_utf8(o.stdout).expect("toml");
+    let text = text.replace("[[body]]\n", "[[body]]\nelements = \"tet4\"\n");
+    std::fs::write(&scene, text).expect("scene file");
+    let vtu = dir.join("vtu");
+    let o = lopin()
+        .arg("run")
+        .arg(&scene)
+        .arg("--vtu")
+        .arg(&vtu)
+        .output()
+        .expect("runs");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let read = read_vtu(&vtu.join("run.pvd"), 0, 5);
+    let files = read["files"].as_object().expect("files");
+    assert!(!files.is_empty());
+    for (name, f) in files {
+        let blocks = f["cell_blocks"].as_array().expect("blocks");
+        assert_eq!(blocks.len(), 1, "{name}: {blocks:?}");
+        assert_eq!(blocks[0][0], "tetra", "{name}");
+        assert_eq!(blocks[0][1], 162, "{name}");
+        assert_eq!(f["points"], 64, "{name}");
+        let vm = f["von_mises"][0].as_f64().expect("von Mises");
+        assert!(vm.is_finite() && vm >= 0.0, "{name}: {vm}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -43,6 +43,8 @@ pub mod macro_basis;
 pub mod macro_problem;
 pub mod material;
 pub mod mesh;
+#[cfg(feature = "msh")]
+pub mod msh;
 #[cfg(feature = "latin")]
 pub mod operator_classes;
 #[cfg(feature = "latin")]

@@ -1,6 +1,6 @@
-//! Meshes: nodes and elements (trilinear hexahedra today; the element kind is an enum so that
-//! unstructured hexahedra and tetrahedra can join), structured box generation, and the boundary
-//! faces used to detect interfaces (METHOD §1: conforming, node-to-node interfaces).
+//! Meshes: nodes and elements (trilinear hexahedra, and linear tetrahedra from imported Gmsh
+//! meshes), structured box generation, and the boundary faces (quadrangles, triangles) used to
+//! detect interfaces (METHOD §1: conforming, node-to-node interfaces).
 
 use std::collections::HashMap;
 
@@ -13,17 +13,53 @@ pub enum Element {
     /// Trilinear hexahedron, nodes in the usual order: bottom face (ζ = −1) counter-clockwise
     /// seen from above, then the top face.
     Hex8([usize; 8]),
+    /// Linear tetrahedron, nodes 1, 2, 3 counter-clockwise seen from node 0 (positive volume).
+    Tet4([usize; 4]),
 }
+
+impl Element {
+    /// The node numbers.
+    pub fn nodes(&self) -> &[usize] {
+        match self {
+            Self::Hex8(n) => n,
+            Self::Tet4(n) => n,
+        }
+    }
+
+    /// Local node lists of the faces, each counter-clockwise seen from outside.
+    fn faces(&self) -> &'static [&'static [usize]] {
+        match self {
+            Self::Hex8(_) => &HEX8_FACES,
+            Self::Tet4(_) => &TET4_FACES,
+        }
+    }
+}
+
+/// The Kuhn split of a cube into six tetrahedra: each runs from corner 000 to corner 111 along
+/// the axes in one of these orders; the even permutations (the first three) give positively
+/// oriented tetrahedra, the odd ones negatively oriented (swap two nodes).
+pub const KUHN_PATHS: [[usize; 3]; 6] = [
+    [0, 1, 2],
+    [1, 2, 0],
+    [2, 0, 1],
+    [0, 2, 1],
+    [1, 0, 2],
+    [2, 1, 0],
+];
+
+/// Local node lists of the four faces of a positively oriented tetrahedron, counter-clockwise
+/// seen from outside.
+const TET4_FACES: [&[usize]; 4] = [&[0, 2, 1], &[0, 1, 3], &[0, 3, 2], &[1, 2, 3]];
 
 /// Local node lists of the six faces of a hexahedron, ordered counter-clockwise seen from
 /// outside (so that the diagonal cross product points outwards).
-const HEX8_FACES: [[usize; 4]; 6] = [
-    [0, 3, 2, 1],
-    [4, 5, 6, 7],
-    [0, 1, 5, 4],
-    [2, 3, 7, 6],
-    [0, 4, 7, 3],
-    [1, 2, 6, 5],
+const HEX8_FACES: [&[usize]; 6] = [
+    &[0, 3, 2, 1],
+    &[4, 5, 6, 7],
+    &[0, 1, 5, 4],
+    &[2, 3, 7, 6],
+    &[0, 4, 7, 3],
+    &[1, 2, 6, 5],
 ];
 
 /// A boundary face of a mesh: its nodes (outward ordering), centroid, unit outward normal and
@@ -95,6 +131,39 @@ impl Mesh {
         3 * self.nodes.len()
     }
 
+    /// The same nodes with each hexahedron cut into six tetrahedra along its diagonal from
+    /// local node 0 to node 6 (the Kuhn split: one tetrahedron per order of the three axes).
+    /// Neighbouring hexahedra of a structured box are cut alike, so the result is conforming;
+    /// tetrahedra stay as they are.
+    pub fn split_into_tets(&self) -> Mesh {
+        // local node of the corner with coordinate bits (x, y, z)
+        const CORNER: [[[usize; 2]; 2]; 2] = [[[0, 4], [3, 7]], [[1, 5], [2, 6]]];
+        let mut elements = Vec::with_capacity(6 * self.elements.len());
+        for e in &self.elements {
+            match e {
+                Element::Hex8(n) => {
+                    for (k, path) in KUHN_PATHS.iter().enumerate() {
+                        let mut bits = [0usize; 3];
+                        let mut t = [n[0]; 4];
+                        for (s, &axis) in path.iter().enumerate() {
+                            bits[axis] = 1;
+                            t[s + 1] = n[CORNER[bits[0]][bits[1]][bits[2]]];
+                        }
+                        if k >= 3 {
+                            t.swap(1, 2);
+                        }
+                        elements.push(Element::Tet4(t));
+                    }
+                }
+                Element::Tet4(_) => elements.push(e.clone()),
+            }
+        }
+        Mesh {
+            nodes: self.nodes.clone(),
+            elements,
+        }
+    }
+
     /// Axis-aligned bounding box (min, max).
     /// A key equal for meshes equal up to a translation: element connectivity and node
     /// coordinates relative to the first node, rounded to 1e-9 of the mesh size (so translated
@@ -108,9 +177,9 @@ impl Mesh {
         let origin = self.nodes.first().copied().unwrap_or([0.0; 3]);
         let mut key = vec![self.nodes.len() as i64, self.elements.len() as i64];
         for e in &self.elements {
-            match e {
-                Element::Hex8(n) => key.extend(n.iter().map(|&x| x as i64)),
-            }
+            // the node count tells the kinds apart
+            key.push(e.nodes().len() as i64);
+            key.extend(e.nodes().iter().map(|&x| x as i64));
         }
         for p in &self.nodes {
             key.extend((0..3).map(|c| ((p[c] - origin[c]) / (1e-9 * size)).round() as i64));
@@ -120,15 +189,7 @@ impl Mesh {
 
     /// Lower and upper corners of the nodes.
     pub fn bounding_box(&self) -> (Vec3, Vec3) {
-        let mut lo = [f64::INFINITY; 3];
-        let mut hi = [f64::NEG_INFINITY; 3];
-        for p in &self.nodes {
-            for a in 0..3 {
-                lo[a] = lo[a].min(p[a]);
-                hi[a] = hi[a].max(p[a]);
-            }
-        }
-        (lo, hi)
+        bounding_box_of(&self.nodes)
     }
 
     /// The faces that belong to exactly one element.
@@ -136,19 +197,16 @@ impl Mesh {
         let mut count: HashMap<Vec<usize>, (usize, Vec<usize>)> = HashMap::new();
         let mut order = Vec::new();
         for element in &self.elements {
-            match element {
-                Element::Hex8(n) => {
-                    for f in HEX8_FACES {
-                        let nodes: Vec<usize> = f.iter().map(|&i| n[i]).collect();
-                        let mut key = nodes.clone();
-                        key.sort_unstable();
-                        let entry = count.entry(key.clone()).or_insert_with(|| {
-                            order.push(key);
-                            (0, nodes)
-                        });
-                        entry.0 += 1;
-                    }
-                }
+            let n = element.nodes();
+            for f in element.faces() {
+                let nodes: Vec<usize> = f.iter().map(|&i| n[i]).collect();
+                let mut key = nodes.clone();
+                key.sort_unstable();
+                let entry = count.entry(key.clone()).or_insert_with(|| {
+                    order.push(key);
+                    (0, nodes)
+                });
+                entry.0 += 1;
             }
         }
         order
@@ -160,7 +218,8 @@ impl Mesh {
             .collect()
     }
 
-    /// Geometry of a (planar) quadrilateral face given by its nodes.
+    /// Geometry of a (planar) quadrilateral or triangular face given by its nodes: the normal
+    /// from the cross product of the diagonals (quadrangle) or of two edges (triangle).
     fn face(&self, nodes: Vec<usize>) -> Face {
         let p: Vec<Vec3> = nodes.iter().map(|&i| self.nodes[i]).collect();
         let mut centroid = [0.0; 3];
@@ -169,8 +228,10 @@ impl Mesh {
                 centroid[a] += q[a] / p.len() as f64;
             }
         }
-        let d1 = sub(p[2], p[0]);
-        let d2 = sub(p[3], p[1]);
+        let (d1, d2) = match p.len() {
+            3 => (sub(p[1], p[0]), sub(p[2], p[0])),
+            _ => (sub(p[2], p[0]), sub(p[3], p[1])),
+        };
         let c = cross(d1, d2);
         let norm = dot(c, c).sqrt();
         Face {
@@ -180,6 +241,19 @@ impl Mesh {
             area: 0.5 * norm,
         }
     }
+}
+
+/// Lower and upper corners of a set of points (infinite corners for none).
+pub fn bounding_box_of(points: &[Vec3]) -> (Vec3, Vec3) {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for p in points {
+        for a in 0..3 {
+            lo[a] = lo[a].min(p[a]);
+            hi[a] = hi[a].max(p[a]);
+        }
+    }
+    (lo, hi)
 }
 
 /// a − b.
@@ -222,5 +296,37 @@ mod tests {
             let d = sub(f.centroid, [1.0, 0.5, 0.5]);
             assert!(dot(d, f.normal) > 0.0);
         }
+    }
+
+    #[test]
+    fn a_box_split_into_tetrahedra_is_conforming_and_fills_the_box() {
+        let hexes = Mesh::hex_box([0.0; 3], [2.0, 1.0, 0.5], [3, 2, 2]);
+        let m = hexes.split_into_tets();
+        assert_eq!(m.elements.len(), 6 * hexes.elements.len());
+        assert_eq!(m.nodes, hexes.nodes);
+        let mut volume = 0.0;
+        for e in &m.elements {
+            let Element::Tet4(n) = e else {
+                panic!("{e:?} is not a tetrahedron")
+            };
+            let v = crate::tet4::signed_volume(&n.map(|i| m.nodes[i]));
+            assert!(v > 0.0, "{n:?}: volume {v}");
+            volume += v;
+        }
+        assert!((volume - 1.0).abs() < 1e-12, "{volume}");
+        // conforming: the boundary is the box's surface, in triangles, two per boundary quad
+        let faces = m.boundary_faces();
+        assert_eq!(faces.len(), 2 * hexes.boundary_faces().len());
+        assert!(faces.iter().all(|f| f.nodes.len() == 3));
+        let area: f64 = faces.iter().map(|f| f.area).sum();
+        assert!((area - 2.0 * (2.0 + 1.0 + 0.5)).abs() < 1e-12, "{area}");
+        for f in &faces {
+            let d = sub(f.centroid, [1.0, 0.5, 0.25]);
+            assert!(dot(d, f.normal) > 0.0, "inward face {f:?}");
+        }
+        // a translated copy has the same key, a hexahedral mesh of the same nodes another one
+        let moved = Mesh::hex_box([5.0, 0.0, 0.0], [7.0, 1.0, 0.5], [3, 2, 2]).split_into_tets();
+        assert_eq!(moved.translation_key(), m.translation_key());
+        assert_ne!(hexes.translation_key(), m.translation_key());
     }
 }

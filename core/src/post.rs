@@ -125,10 +125,25 @@ pub fn element_stress(solver: &Solver, i: usize, u: &[f64]) -> Vec<[f64; 6]> {
     sub.mesh
         .elements
         .iter()
-        .map(|e| match e {
-            Element::Hex8(nodes) => hex_centre_stress(sub, nodes, u),
-        })
+        .map(|e| stress_of(sub, e, u))
         .collect()
+}
+
+/// Stress tensor (Voigt) of one element of `sub` (at the centre of a hexahedron, constant on a
+/// tetrahedron) for displacements `u`.
+pub fn stress_of(sub: &Substructure, element: &Element, u: &[f64]) -> [f64; 6] {
+    match element {
+        Element::Hex8(nodes) => hex_centre_stress(sub, nodes, u),
+        Element::Tet4(nodes) => tet_stress(sub, nodes, u),
+    }
+}
+
+/// The (constant) stress tensor (Voigt) of one tetrahedron `nodes` of `sub` for displacements
+/// `u`.
+pub fn tet_stress(sub: &Substructure, nodes: &[usize; 4], u: &[f64]) -> [f64; 6] {
+    let x: [Vec3; 4] = std::array::from_fn(|a| sub.mesh.nodes[nodes[a]]);
+    let ue: [f64; 12] = std::array::from_fn(|d| u[3 * nodes[d / 3] + d % 3]);
+    crate::tet4::stress(&x, &sub.material, &ue)
 }
 
 /// Stress tensor (Voigt) at the centre of one hexahedron `nodes` of `sub` for displacements `u`.

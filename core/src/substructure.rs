@@ -11,6 +11,7 @@ use crate::hex8;
 use crate::material::Material;
 use crate::mesh::{Element, Mesh, Vec3};
 use crate::sparse::SymmetricMatrix;
+use crate::tet4;
 use crate::time_scheme::StepCoefficients;
 
 /// A substructure with its assembled mass and stiffness.
@@ -108,22 +109,16 @@ impl Substructure {
             match element {
                 Element::Hex8(nodes) => {
                     let x: [Vec3; 8] = std::array::from_fn(|a| mesh.nodes[nodes[a]]);
-                    let me = hex8::lumped_mass(&x, &material);
-                    for a in 0..8 {
-                        for c in 0..3 {
-                            mass[3 * nodes[a] + c] += me[a];
-                        }
+                    scatter_mass(&mut mass, nodes, &hex8::lumped_mass(&x, &material));
+                    if shared.is_none() {
+                        scatter(&mut triplets, nodes, hex8::stiffness(&x, &material).iter());
                     }
-                    if shared.is_some() {
-                        continue;
-                    }
-                    let ke = hex8::stiffness(&x, &material);
-                    for (i, row) in ke.iter().enumerate() {
-                        let gi = 3 * nodes[i / 3] + i % 3;
-                        for (j, &v) in row.iter().enumerate() {
-                            let gj = 3 * nodes[j / 3] + j % 3;
-                            triplets.push(Triplet::new(gi, gj, v));
-                        }
+                }
+                Element::Tet4(nodes) => {
+                    let x: [Vec3; 4] = std::array::from_fn(|a| mesh.nodes[nodes[a]]);
+                    scatter_mass(&mut mass, nodes, &tet4::lumped_mass(&x, &material));
+                    if shared.is_none() {
+                        scatter(&mut triplets, nodes, tet4::stiffness(&x, &material).iter());
                     }
                 }
             }
@@ -192,5 +187,30 @@ impl Substructure {
             t.push(Triplet::new(d, d, k * s * a));
         }
         t
+    }
+}
+
+/// Adds an element's lumped nodal masses to every component of its nodes.
+fn scatter_mass(mass: &mut [f64], nodes: &[usize], me: &[f64]) {
+    for (&n, &m) in nodes.iter().zip(me) {
+        for c in 0..3 {
+            mass[3 * n + c] += m;
+        }
+    }
+}
+
+/// Adds an element stiffness (rows of 3·nodes entries, dof = 3·local node + component) to the
+/// triplets of the substructure.
+fn scatter<'a, const D: usize>(
+    triplets: &mut Vec<Triplet<usize, usize, f64>>,
+    nodes: &[usize],
+    rows: impl Iterator<Item = &'a [f64; D]>,
+) {
+    for (i, row) in rows.enumerate() {
+        let gi = 3 * nodes[i / 3] + i % 3;
+        for (j, &v) in row.iter().enumerate() {
+            let gj = 3 * nodes[j / 3] + j % 3;
+            triplets.push(Triplet::new(gi, gj, v));
+        }
     }
 }

@@ -68,13 +68,9 @@ pub fn element_to_nodes(mesh: &Mesh, values: &[f64]) -> Vec<f64> {
     let mut sum = vec![0.0; mesh.nodes.len()];
     let mut count = vec![0u32; mesh.nodes.len()];
     for (e, &v) in mesh.elements.iter().zip(values) {
-        match e {
-            Element::Hex8(nodes) => {
-                for &n in nodes {
-                    sum[n] += v;
-                    count[n] += 1;
-                }
-            }
+        for &n in e.nodes() {
+            sum[n] += v;
+            count[n] += 1;
         }
     }
     sum.iter()
@@ -87,13 +83,11 @@ pub fn element_to_nodes(mesh: &Mesh, values: &[f64]) -> Vec<f64> {
 pub fn probe(solver: &Solver, sol: &Solution, sub: usize, node: usize) -> (Vec<f64>, Vec<f64>) {
     let p = solver.problem();
     let s = &p.subs[sub];
-    let around: Vec<[usize; 8]> = s
+    let around: Vec<&Element> = s
         .mesh
         .elements
         .iter()
-        .filter_map(|e| match e {
-            Element::Hex8(n) => n.contains(&node).then_some(*n),
-        })
+        .filter(|e| e.nodes().contains(&node))
         .collect();
     let mut speed = Vec::with_capacity(p.time.steps + 1);
     let mut vm = Vec::with_capacity(p.time.steps + 1);
@@ -102,7 +96,7 @@ pub fn probe(solver: &Solver, sol: &Solution, sub: usize, node: usize) -> (Vec<f
         speed.push((v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt());
         let mean = around
             .iter()
-            .map(|nodes| hex8::von_mises(&post::hex_centre_stress(s, nodes, &st.u)))
+            .map(|e| hex8::von_mises(&post::stress_of(s, e, &st.u)))
             .sum::<f64>()
             / around.len().max(1) as f64;
         vm.push(mean);

@@ -59,7 +59,13 @@ impl SceneGeometry {
                     .mesh
                     .boundary_faces()
                     .into_iter()
-                    .filter_map(|f| <[usize; 4]>::try_from(f.nodes).ok())
+                    .filter_map(|f| match f.nodes[..] {
+                        // a triangle as a quadrangle with its last node repeated: its second
+                        // triangle is empty
+                        [a, b, c] => Some([a, b, c, c]),
+                        [a, b, c, d] => Some([a, b, c, d]),
+                        _ => None,
+                    })
                     .collect();
                 let elements = s
                     .mesh
@@ -67,6 +73,9 @@ impl SceneGeometry {
                     .iter()
                     .map(|e| match e {
                         Element::Hex8(n) => *n,
+                        // a tetrahedron as a collapsed hexahedron (bottom a b c c, top d d d d):
+                        // its twelve edges hold the tetrahedron's six, so a section cuts it
+                        Element::Tet4([a, b, c, d]) => [*a, *b, *c, *c, *d, *d, *d, *d],
                     })
                     .collect();
                 let centroid = nodes.iter().copied().sum::<Vec3>() / (nodes.len().max(1) as f32);

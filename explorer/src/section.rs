@@ -135,6 +135,34 @@ mod tests {
         assert!((area - 1.0).abs() < 1e-6, "{area}");
     }
 
+    /// A tetrahedron enters the explorer as a collapsed hexahedron (bottom a b c c, top d d d d,
+    /// `geometry.rs`): the plane x = 0.25 cuts the corner tetrahedron of the unit cube in the
+    /// triangle (0.25, 0, 0), (0.25, 0.75, 0), (0.25, 0, 0.75), of area 0.75²/2.
+    #[test]
+    fn a_plane_cuts_a_collapsed_tetrahedron_in_a_triangle() {
+        let (n, _) = unit_hex();
+        // corners (0,0,0), (1,0,0), (0,1,0), (0,0,1) of the unit hexahedron's nodes
+        let tet = [0, 1, 3, 3, 4, 4, 4, 4];
+        let s = Section {
+            axis: 0,
+            position: 0.25,
+            facing: -1.0,
+        };
+        let poly = s.cut(&n, &tet).expect("the plane crosses the tetrahedron");
+        assert_eq!(poly.len(), 3);
+        let p: Vec<Vec3> = poly.iter().map(|c| n[c.a].lerp(n[c.b], c.t)).collect();
+        assert!(p.iter().all(|q| (q.x - 0.25).abs() < 1e-6));
+        let area: f32 = (0..3)
+            .map(|i| {
+                let (a, b) = (p[i], p[(i + 1) % 3]);
+                a.y * b.z - b.y * a.z
+            })
+            .sum::<f32>()
+            .abs()
+            * 0.5;
+        assert!((area - 0.28125).abs() < 1e-6, "{area}");
+    }
+
     #[test]
     fn a_plane_outside_misses() {
         let (n, h) = unit_hex();

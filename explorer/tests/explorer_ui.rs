@@ -229,3 +229,19 @@ fn granular_small_exploded_shows_the_grains_and_the_macro_switch_re_solves() {
         app.solve.markers()
     );
 }
+
+/// A scene on tetrahedra (`mini-impact-tet`) loads, solves and is drawn: its boundary triangles
+/// become the mesh, and the section cuts its tetrahedra.
+#[test]
+fn a_scene_on_tetrahedra_loads_and_draws() {
+    let mut h = harness("two-blocks");
+    settle(&mut h);
+    h.state_mut().pending_scene = Some("mini-impact-tet".into());
+    h.step();
+    settle(&mut h);
+    let app = h.state();
+    assert_eq!(app.info.name, "mini-impact-tet");
+    assert!(!app.layout.mesh().vertices.is_empty());
+    let reports = app.solve.reports();
+    assert_eq!(reports.len(), 1, "{reports:?}");
+}

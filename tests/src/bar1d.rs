@@ -89,6 +89,7 @@ impl Bar1d {
                 divisions: [s.elements, 1, 1],
                 split: [1, 1, 1],
                 velocity: [s.velocity, 0.0, 0.0],
+                elements: None,
             });
         }
         let interfaces = self

@@ -1,12 +1,13 @@
 //! Helpers for Lopin's cross-crate validation tests: 1D bars written as 3D scenes (one hexahedron
 //! across, ν = 0, so the 3D discretization is exactly the 1D one of METHOD §12), an independent
-//! monolithic 1D solver of the same discretization ([`mono1d`]), and small solve/compare helpers.
+//! monolithic 1D solver of the same discretization ([`mono1d`]), a writer of small Gmsh MSH 4.1
+//! files ([`msh_writer`]), and small solve/compare helpers.
 
 pub mod bar1d;
 pub mod mono1d;
+pub mod msh_writer;
 
 use bar1d::{Bar1d, Segment};
-use lopin_core::mesh::Element;
 use lopin_core::post;
 use lopin_core::scene::{self, SceneSpec};
 use lopin_core::time_function::TimeGrid;
@@ -86,10 +87,11 @@ pub fn elements_along_x(
     for (i, sub) in solver.problem().subs.iter().enumerate() {
         let stress = post::element_stress(solver, i, &fields[i].u);
         for (e, el) in sub.mesh.elements.iter().enumerate() {
-            let Element::Hex8(nodes) = el;
-            let xc = nodes.iter().map(|&k| sub.mesh.nodes[k][0]).sum::<f64>() / 8.0;
+            let nodes = el.nodes();
+            let count = nodes.len() as f64;
+            let xc = nodes.iter().map(|&k| sub.mesh.nodes[k][0]).sum::<f64>() / count;
             if (lo..=hi).contains(&xc) {
-                let v = nodes.iter().map(|&k| fields[i].v[3 * k]).sum::<f64>() / 8.0;
+                let v = nodes.iter().map(|&k| fields[i].v[3 * k]).sum::<f64>() / count;
                 out.push((stress[e][0], v));
             }
         }

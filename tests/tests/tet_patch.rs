@@ -8,6 +8,7 @@
 use lopin_core::dense::solve_spd;
 use lopin_core::material::{voigt_strain, Material};
 use lopin_core::mesh::Vec3;
+use lopin_core::mesh::KUHN_PATHS;
 use lopin_core::tet4;
 
 const N: usize = 4; // nodes per edge
@@ -42,19 +43,11 @@ fn mesh() -> (Vec<Vec3>, Vec<[usize; 4]>) {
         }
     }
     // Kuhn split: the six paths from corner 000 to 111 along the axes, in every order
-    let perms = [
-        [0, 1, 2],
-        [0, 2, 1],
-        [1, 0, 2],
-        [1, 2, 0],
-        [2, 0, 1],
-        [2, 1, 0],
-    ];
     let mut tets = Vec::new();
     for k in 0..N - 1 {
         for j in 0..N - 1 {
             for i in 0..N - 1 {
-                for p in perms {
+                for p in KUHN_PATHS {
                     let mut c = [i, j, k];
                     let mut t = [node(c[0], c[1], c[2]); 4];
                     for (s, axis) in p.iter().enumerate() {

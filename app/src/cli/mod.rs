@@ -6,6 +6,7 @@ mod bench;
 mod compare;
 mod estimate;
 mod export;
+mod mesh;
 mod outputs;
 mod plot;
 mod reference;
@@ -54,6 +55,9 @@ enum Command {
     Bench(bench::BenchArgs),
     /// Iterations against the number of substructures, with and without the macro problem.
     Scaling(scaling::ScalingArgs),
+    /// Gmsh meshes: read an MSH 4.1 file and report what Lopin sees in it.
+    #[command(subcommand)]
+    Mesh(mesh::MeshCommand),
     /// List the built-in scenes.
     Scenes,
     /// Print a built-in scene as a TOML scene file.
@@ -77,6 +81,7 @@ pub fn dispatch(cli: Cli) -> anyhow::Result<std::process::ExitCode> {
         Some(Command::Export(args)) => export::export_cmd(&args),
         Some(Command::Bench(args)) => bench::bench(&args),
         Some(Command::Scaling(args)) => scaling::scaling(&args),
+        Some(Command::Mesh(cmd)) => mesh::mesh(&cmd),
         Some(Command::Scenes) => scenes::list(),
         Some(Command::ExportScene { name }) => scenes::export(&name),
         None => view::view(&view::ViewArgs::default()),

@@ -68,6 +68,7 @@ pub fn cube(n: usize, elements: usize, steps: usize) -> SceneSpec {
             divisions: [elements; 3],
             split: [n; 3],
             velocity: [0.0; 3],
+            elements: None,
         }],
         interfaces: vec![],
         boundaries: vec![

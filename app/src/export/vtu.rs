@@ -1,5 +1,5 @@
 //! One substructure at one time step as a VTK XML unstructured grid (.vtu, written by the vtkio
-//! crate): linear hexahedra (Lopin's Hex8 node order is VTK_HEXAHEDRON's), point data
+//! crate): linear hexahedra and tetrahedra (Lopin's Hex8 and Tet4 node orders are VTK_HEXAHEDRON's and VTK_TETRA's), point data
 //! `displacement`, `velocity` and `velocity_avg` (m, m/s; the step average (v_m + v_{m−1})/2,
 //! which the undamped rule's alternating mode v_m = (−1)^m c does not reach: the velocity to look
 //! at when a solve was stopped at a loose η, METHOD §10), cell data `von_mises` (Pa), `stress` (Cauchy tensor
@@ -29,11 +29,14 @@ pub fn grid(solver: &Solver, i: usize, f: &SubFields, prev: &SubFields, title: S
     let points: Vec<f64> = mesh.nodes.iter().flatten().copied().collect();
     let mut connectivity = Vec::with_capacity(8 * mesh.elements.len());
     let mut offsets = Vec::with_capacity(mesh.elements.len());
+    let mut types = Vec::with_capacity(mesh.elements.len());
     for e in &mesh.elements {
-        match e {
-            Element::Hex8(nodes) => connectivity.extend(nodes.iter().map(|&n| n as u64)),
-        }
+        connectivity.extend(e.nodes().iter().map(|&n| n as u64));
         offsets.push(connectivity.len() as u64);
+        types.push(match e {
+            Element::Hex8(_) => CellType::Hexahedron,
+            Element::Tet4(_) => CellType::Tetra,
+        });
     }
     let stress = post::element_stress(solver, i, &f.u);
     let von_mises: Vec<f64> = stress.iter().map(hex8::von_mises).collect();
@@ -80,7 +83,7 @@ pub fn grid(solver: &Solver, i: usize, f: &SubFields, prev: &SubFields, title: S
                     connectivity,
                     offsets,
                 },
-                types: vec![CellType::Hexahedron; cells],
+                types,
             },
             data,
         }),

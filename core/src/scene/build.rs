@@ -11,7 +11,7 @@ use crate::material::Material;
 use crate::mesh::{Mesh, Vec3};
 use crate::problem::{NamedMaterial, Problem};
 use crate::scene::granular;
-use crate::scene::spec::{InterfaceKind, SceneSpec};
+use crate::scene::spec::{ElementKind, InterfaceKind, SceneSpec};
 pub use crate::scene::validate::validate;
 use crate::scene::validate::{boundary_dofs, pair_key};
 use crate::substructure::{StiffnessCache, Substructure};
@@ -114,11 +114,16 @@ pub fn build(spec: &SceneSpec, source: &str) -> Result<Problem> {
         .map(|piece| {
             let b = &spec.bodies[piece.body];
             let material_id = material_of[piece.body];
+            let mesh = Mesh::hex_box(piece.min, piece.max, piece.divisions);
+            let mesh = match b.elements.unwrap_or_default() {
+                ElementKind::Hex8 => mesh,
+                ElementKind::Tet4 => mesh.split_into_tets(),
+            };
             Substructure::assemble_cached(
                 piece.name.clone(),
                 b.name.clone(),
                 material_id,
-                Mesh::hex_box(piece.min, piece.max, piece.divisions),
+                mesh,
                 materials[material_id].material,
                 b.velocity,
                 &mut cache,

@@ -406,6 +406,7 @@ pub fn expand(spec: &SceneSpec, source: &str) -> Result<SceneSpec> {
                 divisions: [m; 3],
                 split: [1, 1, 1],
                 velocity: [0.0; 3],
+                elements: None,
             }
         })
         .collect();

@@ -21,7 +21,7 @@ pub const SCENES: [&str; 7] = [
 
 /// Names of the test scenes: small versions of built-in scenes that the stress suite varies
 /// (k, μ, contrasts, Δt, friction, gaps, impact speeds); loadable by name, never listed.
-pub const TEST_SCENES: [&str; 3] = ["mini-blocks", "mini-impact", "mini-bar"];
+pub const TEST_SCENES: [&str; 4] = ["mini-blocks", "mini-impact", "mini-bar", "mini-impact-tet"];
 
 /// Built-in scenes too large for the test suite's solves and the explorer's scene picker
 /// (`granular-paper`: 648 substructures, about 1 million dofs, about 1 GB to build).
@@ -45,6 +45,7 @@ pub fn source(name: &str) -> Option<&'static str> {
         "mini-blocks" => include_str!("../../../assets/scenes/test/mini-blocks.toml"),
         "mini-impact" => include_str!("../../../assets/scenes/test/mini-impact.toml"),
         "mini-bar" => include_str!("../../../assets/scenes/test/mini-bar.toml"),
+        "mini-impact-tet" => include_str!("../../../assets/scenes/test/mini-impact-tet.toml"),
         _ => return None,
     })
 }
@@ -107,5 +108,18 @@ mod tests {
             small.description.clone_from(&full.description);
             assert_eq!(small, full, "{test}");
         }
+        // mini-impact-tet is mini-impact on tetrahedra
+        let mut tet = builtin("mini-impact-tet").expect("test scene");
+        assert!(tet
+            .bodies
+            .iter()
+            .all(|b| b.elements == Some(super::super::spec::ElementKind::Tet4)));
+        for b in &mut tet.bodies {
+            b.elements = None;
+        }
+        let hex = builtin("mini-impact").expect("test scene");
+        tet.name.clone_from(&hex.name);
+        tet.description.clone_from(&hex.description);
+        assert_eq!(tet, hex);
     }
 }

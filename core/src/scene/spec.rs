@@ -137,6 +137,21 @@ pub struct BodySpec {
     /// Initial velocity (m/s).
     #[serde(default, deserialize_with = "exactly")]
     pub velocity: [f64; 3],
+    /// Element kind of the box's mesh: `hex8` (absent) or `tet4` (each hexahedron cut into six
+    /// tetrahedra along its diagonal, [`crate::mesh::Mesh::split_into_tets`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub elements: Option<ElementKind>,
+}
+
+/// The element kind of a box body's mesh.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ElementKind {
+    /// Trilinear hexahedra.
+    #[default]
+    Hex8,
+    /// Linear tetrahedra, six per hexahedron of the box grid.
+    Tet4,
 }
 
 fn ones() -> [usize; 3] {
