@@ -18,7 +18,7 @@ use std::path::Path;
 use mshio::mshfile::ElementType;
 
 use crate::error::{LopinError, Result};
-use crate::mesh::{Element, Vec3};
+use crate::mesh::{Element, Mesh, Vec3};
 
 /// One volume cell: its element tag in the file, nodes and geometric entity.
 #[derive(Debug, Clone, PartialEq)]
@@ -440,6 +440,37 @@ impl MshMesh {
                     .is_some_and(|t| t.iter().any(|p| p.abs() == tag))
             })
             .collect())
+    }
+
+    /// The mesh of the physical volume `name` as one body: its cells, with their nodes numbered
+    /// compactly in the order of first use. Nodes a body shares with another (a face of a
+    /// fragmented geometry) are copied into each, so that the two meet on conforming faces,
+    /// which interface detection pairs (METHOD §1).
+    pub fn body_mesh(&self, name: &str) -> Result<Mesh> {
+        let cells = self.volume_cells(name)?;
+        if cells.is_empty() {
+            return Err(bad(
+                &self.source,
+                format!("physical volume `{name}` holds no tetrahedra or hexahedra"),
+            ));
+        }
+        let mut local = vec![usize::MAX; self.nodes.len()];
+        let mut nodes = Vec::new();
+        let mut renumber = |n: usize| {
+            if local[n] == usize::MAX {
+                local[n] = nodes.len();
+                nodes.push(self.nodes[n]);
+            }
+            local[n]
+        };
+        let elements = cells
+            .iter()
+            .map(|c| match c.nodes {
+                Element::Tet4(n) => Element::Tet4(n.map(&mut renumber)),
+                Element::Hex8(n) => Element::Hex8(n.map(&mut renumber)),
+            })
+            .collect();
+        Ok(Mesh { nodes, elements })
     }
 
     /// Area of a set of facets (a quadrangle as two triangles).

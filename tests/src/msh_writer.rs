@@ -189,3 +189,69 @@ pub fn unit_cube_tets() -> MshDescription {
         ],
     }
 }
+
+/// A column of two cubes of side `size` stacked along z, each cut into n × n × n cells of six
+/// tetrahedra (the Kuhn split, as [`lopin_core::mesh::Mesh::split_into_tets`] cuts a box): the
+/// physical volumes `lower` (z < size, tag 1) and `upper` (tag 2) share the nodes of the face
+/// z = size, as Gmsh writes a fragmented geometry; the physical surface `bottom` (tag 3) is the
+/// face z = 0 in triangles.
+pub fn stacked_cubes(n: usize, size: f64) -> MshDescription {
+    let h = size / n as f64;
+    let (nx, nz) = (n + 1, 2 * n + 1);
+    let tag = |i: usize, j: usize, k: usize| (1 + i + nx * (j + nx * k)) as u64;
+    let mut nodes = Vec::new();
+    for k in 0..nz {
+        for j in 0..nx {
+            for i in 0..nx {
+                nodes.push([i as f64 * h, j as f64 * h, k as f64 * h]);
+            }
+        }
+    }
+    let (mut lower, mut upper, mut bottom) = (Vec::new(), Vec::new(), Vec::new());
+    for k in 0..2 * n {
+        for j in 0..n {
+            for i in 0..n {
+                for (p, path) in KUHN_PATHS.iter().enumerate() {
+                    let mut c = [i, j, k];
+                    let mut t = vec![tag(c[0], c[1], c[2])];
+                    for &axis in path {
+                        c[axis] += 1;
+                        t.push(tag(c[0], c[1], c[2]));
+                    }
+                    if p >= 3 {
+                        t.swap(1, 2);
+                    }
+                    if k < n {
+                        lower.push(t);
+                    } else {
+                        upper.push(t);
+                    }
+                }
+            }
+        }
+    }
+    for j in 0..n {
+        for i in 0..n {
+            let (a, b, c, d) = (
+                tag(i, j, 0),
+                tag(i + 1, j, 0),
+                tag(i + 1, j + 1, 0),
+                tag(i, j + 1, 0),
+            );
+            // outward (−z): clockwise seen from above
+            bottom.push(vec![a, c, b]);
+            bottom.push(vec![a, d, c]);
+        }
+    }
+    MshDescription {
+        nodes,
+        physical_names: vec![
+            (2, 3, "bottom".into()),
+            (3, 1, "lower".into()),
+            (3, 2, "upper".into()),
+        ],
+        surfaces: vec![(1, vec![3])],
+        volumes: vec![(1, vec![1]), (2, vec![2])],
+        blocks: vec![(2, 1, 2, bottom), (3, 1, 4, lower), (3, 2, 4, upper)],
+    }
+}

@@ -36,6 +36,11 @@ fn ascii_and_binary_read_the_same_mesh() {
         .map(|p| (p.dim, p.name.as_str()))
         .collect();
     assert_eq!(names, [(2, "bottom"), (3, "cube")]);
+    // the physical volume as a body mesh: its own compact nodes
+    let body = ascii.body_mesh("cube").expect("body");
+    assert_eq!((body.nodes.len(), body.elements.len()), (8, 6));
+    let e = ascii.body_mesh("matrix").expect_err("absent").to_string();
+    assert!(e.contains("`matrix`") && e.contains("cube"), "{e}");
 }
 
 #[test]
