@@ -169,10 +169,27 @@ pub fn boundary_interface(
     dofs: &[BoundaryDof],
     name: String,
 ) -> Option<Interface> {
+    let on_plane = |face: &Face| {
+        let tol = REL_TOL * face.area.sqrt();
+        face.normal[axis] * sign >= FACING && (face.centroid[axis] - value).abs() <= tol
+    };
+    boundary_interface_on(subs, s, &on_plane, dofs, name)
+}
+
+/// Builds a boundary interface of substructure `s` on the boundary faces `selected` accepts
+/// (a plane of a box, [`boundary_interface`]; the facets of a physical surface of an imported
+/// mesh), prescribing `dofs` at each of their nodes with lumped areas (face area / its node
+/// count, METHOD §1). Returns None when no face is selected.
+pub fn boundary_interface_on(
+    subs: &[Substructure],
+    s: usize,
+    selected: &dyn Fn(&Face) -> bool,
+    dofs: &[BoundaryDof],
+    name: String,
+) -> Option<Interface> {
     let mut area: BTreeMap<usize, f64> = BTreeMap::new();
     for face in subs[s].mesh.boundary_faces() {
-        let tol = REL_TOL * face.area.sqrt();
-        if face.normal[axis] * sign < FACING || (face.centroid[axis] - value).abs() > tol {
+        if !selected(&face) {
             continue;
         }
         for &n in &face.nodes {

@@ -447,6 +447,11 @@ impl MshMesh {
     /// fragmented geometry) are copied into each, so that the two meet on conforming faces,
     /// which interface detection pairs (METHOD §1).
     pub fn body_mesh(&self, name: &str) -> Result<Mesh> {
+        Ok(self.body(name)?.0)
+    }
+
+    /// [`Self::body_mesh`] and, for each of its nodes, the node of the file it copies.
+    pub fn body(&self, name: &str) -> Result<(Mesh, Vec<usize>)> {
         let cells = self.volume_cells(name)?;
         if cells.is_empty() {
             return Err(bad(
@@ -456,10 +461,12 @@ impl MshMesh {
         }
         let mut local = vec![usize::MAX; self.nodes.len()];
         let mut nodes = Vec::new();
+        let mut file_node = Vec::new();
         let mut renumber = |n: usize| {
             if local[n] == usize::MAX {
                 local[n] = nodes.len();
                 nodes.push(self.nodes[n]);
+                file_node.push(n);
             }
             local[n]
         };
@@ -470,7 +477,32 @@ impl MshMesh {
                 Element::Hex8(n) => Element::Hex8(n.map(&mut renumber)),
             })
             .collect();
-        Ok(Mesh { nodes, elements })
+        Ok((Mesh { nodes, elements }, file_node))
+    }
+
+    /// A test of the boundary faces of a body (`file_node`: its nodes' file nodes, from
+    /// [`Self::body`]) that accepts those on the physical surface `name`: a face whose nodes are
+    /// those of one of the surface's facets.
+    pub fn surface_selector(
+        &self,
+        name: &str,
+        file_node: &[usize],
+    ) -> Result<impl Fn(&crate::mesh::Face) -> bool> {
+        let facets: std::collections::HashSet<Vec<usize>> = self
+            .surface_facets(name)?
+            .into_iter()
+            .map(|f| {
+                let mut k = f.nodes.clone();
+                k.sort_unstable();
+                k
+            })
+            .collect();
+        let file_node = file_node.to_vec();
+        Ok(move |face: &crate::mesh::Face| {
+            let mut k: Vec<usize> = face.nodes.iter().map(|&n| file_node[n]).collect();
+            k.sort_unstable();
+            facets.contains(&k)
+        })
     }
 
     /// Area of a set of facets (a quadrangle as two triangles).

@@ -1,6 +1,8 @@
 //! Bodies from a Gmsh file (issue 17): the physical volumes of one MSH file become bodies whose
 //! shared nodes are copied into each (`MshMesh::body_mesh`), so interface detection pairs them
-//! on their common face as a perfect interface, and the model solves like a built-in one.
+//! on their common face as a perfect interface; a boundary condition holds on a physical surface
+//! (`MshMesh::surface_selector`, `detect::boundary_interface_on`); and the model solves like a
+//! built-in one.
 //!
 //! A column of two steel cubes (2 cm, 2 × 2 × 2 cells of six tetrahedra each, written as an MSH
 //! 4.1 file in both encodings), clamped at the bottom and pushed down on top at 1 m/s (cosine
@@ -10,7 +12,9 @@
 //!   two substructures along z), the same discrete problem: velocities and energies equal to
 //!   1e-9 relative.
 
-use lopin_core::detect::{assemble_traces, boundary_interface, detect_interfaces, PairRule};
+use lopin_core::detect::{
+    assemble_traces, boundary_interface, boundary_interface_on, detect_interfaces, PairRule,
+};
 use lopin_core::interface::{BoundaryDof, DofLaw};
 use lopin_core::material::Material;
 use lopin_core::problem::{NamedMaterial, Problem};
@@ -37,10 +41,11 @@ fn steel() -> Material {
 /// The problem of the column read from an MSH file.
 fn problem_from_file(binary: bool) -> Problem {
     let m = msh::parse(&write(&stacked_cubes(2, SIZE), binary), "column.msh").expect("reads");
-    let mut subs: Vec<Substructure> = ["lower", "upper"]
+    let (lower, lower_nodes) = m.body("lower").expect("physical volume");
+    let upper = m.body_mesh("upper").expect("physical volume");
+    let mut subs: Vec<Substructure> = [("lower", lower), ("upper", upper)]
         .into_iter()
-        .map(|name| {
-            let mesh = m.body_mesh(name).expect("physical volume");
+        .map(|(name, mesh)| {
             Substructure::assemble(name.into(), name.into(), 0, mesh, steel(), [0.0; 3])
         })
         .collect();
@@ -59,10 +64,18 @@ fn problem_from_file(binary: bool) -> Problem {
             law: DofLaw::Velocity(TimeFunction::constant(0.0)),
         })
         .collect();
-    interfaces.push(
-        boundary_interface(&subs, 0, 2, -1.0, 0.0, &clamp, "lower:bottom".into())
-            .expect("the bottom face"),
-    );
+    // the clamp on the physical surface `bottom`, found by its facets
+    let bottom = m
+        .surface_selector("bottom", &lower_nodes)
+        .expect("physical surface");
+    let clamped = boundary_interface_on(&subs, 0, &bottom, &clamp, "lower:bottom".into())
+        .expect("the bottom surface");
+    // the same nodes as the plane z = 0 selects, with the same lumped areas
+    let plane = boundary_interface(&subs, 0, 2, -1.0, 0.0, &clamp, "plane".into()).expect("plane");
+    assert_eq!(clamped.sides[0].nodes, plane.sides[0].nodes);
+    assert_eq!(clamped.area, plane.area);
+    assert_eq!(clamped.sides[0].nodes.len(), 3 * 9);
+    interfaces.push(clamped);
     let push = [BoundaryDof {
         component: 2,
         law: DofLaw::Velocity(TimeFunction {
