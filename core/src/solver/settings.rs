@@ -25,9 +25,10 @@ pub struct Settings {
     /// relative 1e-12) since its last solve over the whole interval, reusing that solve's output.
     pub skip_unchanged: bool,
     /// On a cold start, where each time window's iteration begins ([`WindowStart`]): the
-    /// default extrapolates the mean change of the last two converged steps; `Zero` is the plain
-    /// METHOD §7 variant (found by the stress suite to cost 2× the iterations of `Hold` in
-    /// incremental runs).
+    /// default (`Auto`) extrapolates the mean change of the last two converged steps at
+    /// tolerances of 1e-3 and tighter and holds the last step above; `Zero` is the plain METHOD
+    /// §7 variant (found by the stress suite to cost 2× the iterations of `Hold` in incremental
+    /// runs).
     #[serde(default)]
     pub window_start: WindowStart,
     /// Normalize a window's η by its own energy plus the mean energy per step of the earlier
