@@ -108,6 +108,7 @@ impl Bar1d {
             .map(|(v, t, ramp)| BoundarySpec {
                 body: "s0".into(),
                 face: "x-".into(),
+                surface: None,
                 clamped: false,
                 x: Some(ComponentSpec {
                     velocity: Some(v),
@@ -130,6 +131,7 @@ impl Bar1d {
             materials,
             granular: None,
             bodies,
+            mesh_bodies: Vec::new(),
             interfaces,
             boundaries,
         }

@@ -193,8 +193,8 @@ pub fn unit_cube_tets() -> MshDescription {
 /// A column of two cubes of side `size` stacked along z, each cut into n × n × n cells of six
 /// tetrahedra (the Kuhn split, as [`lopin_core::mesh::Mesh::split_into_tets`] cuts a box): the
 /// physical volumes `lower` (z < size, tag 1) and `upper` (tag 2) share the nodes of the face
-/// z = size, as Gmsh writes a fragmented geometry; the physical surface `bottom` (tag 3) is the
-/// face z = 0 in triangles.
+/// z = size, as Gmsh writes a fragmented geometry; the physical surfaces `bottom` (tag 3) and
+/// `top` (tag 4) are the faces z = 0 and z = 2 size in triangles.
 pub fn stacked_cubes(n: usize, size: f64) -> MshDescription {
     let h = size / n as f64;
     let (nx, nz) = (n + 1, 2 * n + 1);
@@ -207,7 +207,8 @@ pub fn stacked_cubes(n: usize, size: f64) -> MshDescription {
             }
         }
     }
-    let (mut lower, mut upper, mut bottom) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut lower, mut upper, mut bottom, mut top) =
+        (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     for k in 0..2 * n {
         for j in 0..n {
             for i in 0..n {
@@ -241,17 +242,32 @@ pub fn stacked_cubes(n: usize, size: f64) -> MshDescription {
             // outward (−z): clockwise seen from above
             bottom.push(vec![a, c, b]);
             bottom.push(vec![a, d, c]);
+            let k = 2 * n;
+            let (a, b, c, d) = (
+                tag(i, j, k),
+                tag(i + 1, j, k),
+                tag(i + 1, j + 1, k),
+                tag(i, j + 1, k),
+            );
+            top.push(vec![a, b, c]);
+            top.push(vec![a, c, d]);
         }
     }
     MshDescription {
         nodes,
         physical_names: vec![
             (2, 3, "bottom".into()),
+            (2, 4, "top".into()),
             (3, 1, "lower".into()),
             (3, 2, "upper".into()),
         ],
-        surfaces: vec![(1, vec![3])],
+        surfaces: vec![(1, vec![3]), (2, vec![4])],
         volumes: vec![(1, vec![1]), (2, vec![2])],
-        blocks: vec![(2, 1, 2, bottom), (3, 1, 4, lower), (3, 2, 4, upper)],
+        blocks: vec![
+            (2, 1, 2, bottom),
+            (2, 2, 2, top),
+            (3, 1, 4, lower),
+            (3, 2, 4, upper),
+        ],
     }
 }

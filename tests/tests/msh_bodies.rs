@@ -198,3 +198,118 @@ fn bodies_from_a_gmsh_file_equal_the_built_in_box_on_tetrahedra() {
     assert!(worst < 1e-9, "energy histories differ by {worst:e}");
     assert!(dv < 1e-9, "peak speeds differ by {dv:e} m/s");
 }
+
+const COLUMN_SCENE: &str = r#"
+name = "column"
+
+[time]
+dt = 0.25e-6
+steps = 40
+
+[[material]]
+name = "steel"
+young = 210e9
+poisson = 0.3
+density = 7800.0
+
+[[mesh_body]]
+name = "lower"
+material = "steel"
+mesh = "column.msh"
+
+[[mesh_body]]
+name = "upper"
+material = "steel"
+mesh = "column.msh"
+
+[[boundary]]
+body = "lower"
+surface = "bottom"
+clamped = true
+
+[[boundary]]
+body = "upper"
+surface = "top"
+z = { velocity = -1.0, ramp = "cosine", ramp_time = 2e-6 }
+"#;
+
+/// A scene file naming the physical volumes of an MSH file beside it (`[[mesh_body]]`, the
+/// boundary conditions on its physical surfaces) builds the same problem as the library calls
+/// above: the same solution to 1e-12.
+#[test]
+fn a_scene_file_takes_bodies_and_surfaces_from_a_gmsh_file() {
+    let dir = std::env::temp_dir().join(format!("lopin-msh-scene-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("dir");
+    std::fs::write(dir.join("column.msh"), write(&stacked_cubes(2, SIZE), true)).expect("msh");
+    let scene_path = dir.join("column.toml");
+    std::fs::write(&scene_path, COLUMN_SCENE).expect("scene");
+    let path = scene_path.display().to_string();
+    let spec = scene::load(&path).expect("loads");
+    let problem = scene::build::build(&spec, &path).expect("builds");
+    assert_eq!(problem.subs.len(), 2);
+    assert_eq!(
+        problem.interfaces.len(),
+        3,
+        "the shared face and two boundaries"
+    );
+    let (scene_solver, scene_sol) = tight(problem);
+    let (lib_solver, lib_sol) = tight(problem_from_file(true));
+    let (es, el) = (
+        post::energy(&scene_solver, &scene_sol),
+        post::energy(&lib_solver, &lib_sol),
+    );
+    let scale = (0..=40).map(|m| el.total(m).abs()).fold(0.0f64, f64::max);
+    let worst = (0..=40)
+        .map(|m| (es.total(m) - el.total(m)).abs() / scale)
+        .fold(0.0f64, f64::max);
+    println!("column scene file against the library calls: energy {worst:.2e}");
+    assert!(worst < 1e-12, "{worst:e}");
+    assert_eq!(scene_sol.iterations, lib_sol.iterations);
+
+    // bad input names the scene file, the field and the reason
+    let bad = |text: String| {
+        std::fs::write(&scene_path, text).expect("scene");
+        let e = scene::load(&path)
+            .and_then(|s| scene::build::build(&s, &path))
+            .expect_err("refused")
+            .to_string();
+        println!("{e}");
+        assert!(e.starts_with(&path), "{e}");
+        e
+    };
+    let e = bad(COLUMN_SCENE.replacen("mesh = \"column.msh\"", "mesh = \"nothere.msh\"", 1));
+    assert!(
+        e.contains("mesh_body[0].mesh") && e.contains("nothere.msh"),
+        "{e}"
+    );
+    let e = bad(COLUMN_SCENE.replacen(
+        "name = \"upper\"\nmaterial = \"steel\"\nmesh = \"column.msh\"",
+        "name = \"upper\"\nmaterial = \"steel\"\nmesh = \"column.msh\"\nvolume = \"matrix\"",
+        1,
+    ));
+    assert!(
+        e.contains("mesh_body[1].volume") && e.contains("`matrix`") && e.contains("lower"),
+        "{e}"
+    );
+    let e = bad(COLUMN_SCENE.replacen("surface = \"top\"", "surface = \"lid\"", 1));
+    assert!(
+        e.contains("boundary[1].surface") && e.contains("`lid`"),
+        "{e}"
+    );
+    let e = bad(COLUMN_SCENE.replacen("surface = \"bottom\"", "face = \"z-\"", 1));
+    assert!(
+        e.contains("boundary[0].surface") && e.contains("mesh body"),
+        "{e}"
+    );
+    // the physical surface `top` lies on `upper`, not on `lower`
+    let e = bad(COLUMN_SCENE.replacen(
+        "body = \"upper\"\nsurface = \"top\"",
+        "body = \"lower\"\nsurface = \"top\"",
+        1,
+    ));
+    assert!(
+        e.contains("boundary[1].surface") && e.contains("no face"),
+        "{e}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -60,6 +60,7 @@ pub fn cube(n: usize, elements: usize, steps: usize) -> SceneSpec {
             poisson: 0.2,
             density: 2400.0,
         }],
+        mesh_bodies: Vec::new(),
         bodies: vec![BodySpec {
             name: "cube".into(),
             material: "matrix".into(),
@@ -75,6 +76,7 @@ pub fn cube(n: usize, elements: usize, steps: usize) -> SceneSpec {
             BoundarySpec {
                 body: "cube".into(),
                 face: "z+".into(),
+                surface: None,
                 clamped: false,
                 x: None,
                 y: None,
@@ -83,6 +85,7 @@ pub fn cube(n: usize, elements: usize, steps: usize) -> SceneSpec {
             BoundarySpec {
                 body: "cube".into(),
                 face: "z-".into(),
+                surface: None,
                 clamped: true,
                 x: None,
                 y: None,

@@ -11,6 +11,7 @@ use crate::material::Material;
 use crate::mesh::{Mesh, Vec3};
 use crate::problem::{NamedMaterial, Problem};
 use crate::scene::granular;
+use crate::scene::mesh_bodies;
 use crate::scene::spec::{ElementKind, InterfaceKind, SceneSpec};
 pub use crate::scene::validate::validate;
 use crate::scene::validate::{boundary_dofs, pair_key};
@@ -130,12 +131,33 @@ pub fn build(spec: &SceneSpec, source: &str) -> Result<Problem> {
             )
         })
         .collect();
+    // bodies from Gmsh files: one substructure each (issue 17)
+    let meshes = mesh_bodies::read(spec, source)?;
+    for (i, (b, (mesh, _))) in spec.mesh_bodies.iter().zip(&meshes.bodies).enumerate() {
+        let material_id = materials
+            .iter()
+            .position(|m| m.name == b.material)
+            .unwrap_or_default();
+        body_subs.push(vec![subs.len()]);
+        subs.push(Substructure::assemble_cached(
+            b.name.clone(),
+            b.name.clone(),
+            material_id,
+            mesh.clone(),
+            materials[material_id].material,
+            b.velocity,
+            &mut cache,
+        ));
+        debug_assert_eq!(body_subs.len(), spec.bodies.len() + i + 1);
+    }
     // the override of each pair of bodies, looked up by pair (scenes have hundreds of bodies)
     let body_index: HashMap<&str, usize> = spec
         .bodies
         .iter()
+        .map(|b| b.name.as_str())
+        .chain(spec.mesh_bodies.iter().map(|b| b.name.as_str()))
         .enumerate()
-        .map(|(i, b)| (b.name.as_str(), i))
+        .map(|(i, name)| (name, i))
         .collect();
     let overrides: HashMap<(usize, usize), PairRule> = spec
         .interfaces
@@ -165,11 +187,27 @@ pub fn build(spec: &SceneSpec, source: &str) -> Result<Problem> {
     let mut interfaces = detect_interfaces(&subs, &rule).map_err(|e| e.in_source(source))?;
     check_overrides_found(spec, source, &subs, &interfaces)?;
     for (i, bc) in spec.boundaries.iter().enumerate() {
-        let (axis, sign) = face_of(&bc.face).unwrap_or((0, 1.0));
         let body = body_index
             .get(bc.body.as_str())
             .copied()
             .unwrap_or_default();
+        if body >= spec.bodies.len() {
+            let dofs = boundary_dofs(bc)
+                .map_err(|(f, r)| LopinError::scene(source, format!("boundary[{i}].{f}"), r))?;
+            let it = meshes.boundary(
+                spec,
+                &subs,
+                body - spec.bodies.len(),
+                body_subs[body][0],
+                bc.surface.as_deref().unwrap_or_default(),
+                &dofs,
+            );
+            interfaces.push(
+                it.map_err(|r| LopinError::scene(source, format!("boundary[{i}].surface"), r))?,
+            );
+            continue;
+        }
+        let (axis, sign) = face_of(&bc.face).unwrap_or((0, 1.0));
         let b = &spec.bodies[body];
         let value = if sign > 0.0 { b.max[axis] } else { b.min[axis] };
         let dofs = boundary_dofs(bc)
@@ -222,8 +260,23 @@ fn check_overrides_found(
             continue;
         }
         let body = |name: &str| spec.bodies.iter().find(|b| b.name == name);
+        let kind = match it.kind {
+            InterfaceKind::Contact => "contact",
+            _ => "perfect",
+        };
         let (Some(a), Some(b)) = (body(&it.bodies[0]), body(&it.bodies[1])) else {
-            continue;
+            // a mesh body: faces meet only where the file's meshes are conforming
+            return Err(LopinError::scene(
+                source,
+                format!("interface[{i}]"),
+                format!(
+                    "a {kind} interface between `{}` and `{}` is asked for, but no face of one \
+                     meets a face of the other (mesh bodies meet on conforming faces: fragment \
+                     the volumes in gmsh so they share their nodes, or set `search` to pair \
+                     faces across a gap)",
+                    it.bodies[0], it.bodies[1]
+                ),
+            ));
         };
         let apart: f64 = (0..3)
             .map(|c| {
@@ -234,10 +287,6 @@ fn check_overrides_found(
             })
             .sum::<f64>()
             .sqrt();
-        let kind = match it.kind {
-            InterfaceKind::Contact => "contact",
-            _ => "perfect",
-        };
         return Err(LopinError::scene(
             source,
             format!("interface[{i}]"),

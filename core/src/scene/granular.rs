@@ -433,6 +433,7 @@ pub fn expand(spec: &SceneSpec, source: &str) -> Result<SceneSpec> {
     let top = layer(nz - 1).map(|c| BoundarySpec {
         body: names[c].clone(),
         face: "z+".into(),
+        surface: None,
         clamped: false,
         x: None,
         y: None,
@@ -441,6 +442,7 @@ pub fn expand(spec: &SceneSpec, source: &str) -> Result<SceneSpec> {
     let bottom = layer(0).map(|c| BoundarySpec {
         body: names[c].clone(),
         face: "z-".into(),
+        surface: None,
         clamped: true,
         x: None,
         y: None,
@@ -450,6 +452,7 @@ pub fn expand(spec: &SceneSpec, source: &str) -> Result<SceneSpec> {
     Ok(SceneSpec {
         granular: None,
         bodies,
+        mesh_bodies: Vec::new(),
         interfaces,
         boundaries,
         ..spec.clone()

@@ -40,6 +40,9 @@ pub struct SceneSpec {
     /// Bodies: boxes meshed with hexahedra and cut into substructures.
     #[serde(default, rename = "body", skip_serializing_if = "Vec::is_empty")]
     pub bodies: Vec<BodySpec>,
+    /// Bodies taken from the physical volumes of Gmsh files (`[[mesh_body]]`, issue 17).
+    #[serde(default, rename = "mesh_body", skip_serializing_if = "Vec::is_empty")]
+    pub mesh_bodies: Vec<MeshBodySpec>,
     /// How pairs of bodies are joined (default: perfect where they touch).
     #[serde(default, rename = "interface", skip_serializing_if = "Vec::is_empty")]
     pub interfaces: Vec<InterfaceSpec>,
@@ -143,6 +146,31 @@ pub struct BodySpec {
     pub elements: Option<ElementKind>,
 }
 
+/// A body taken from a Gmsh MSH 4.1 file: the cells of one physical volume, one substructure.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MeshBodySpec {
+    /// Name referenced by interfaces and boundaries.
+    pub name: String,
+    /// Material name.
+    pub material: String,
+    /// The .msh file, relative to the scene file (or absolute).
+    pub mesh: String,
+    /// The physical volume (absent: the body's name).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub volume: Option<String>,
+    /// Initial velocity (m/s).
+    #[serde(default, deserialize_with = "exactly")]
+    pub velocity: [f64; 3],
+}
+
+impl MeshBodySpec {
+    /// The physical volume the body is.
+    pub fn volume_name(&self) -> &str {
+        self.volume.as_deref().unwrap_or(&self.name)
+    }
+}
+
 /// The element kind of a box body's mesh.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
@@ -196,8 +224,12 @@ pub struct InterfaceSpec {
 pub struct BoundarySpec {
     /// Body name.
     pub body: String,
-    /// Face of the body's box: "x-", "x+", "y-", "y+", "z-" or "z+".
+    /// Face of the body's box: "x-", "x+", "y-", "y+", "z-" or "z+" (box bodies).
+    #[serde(default, skip_serializing_if = "String::is_empty")]
     pub face: String,
+    /// Physical surface of the body's mesh file (mesh bodies).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub surface: Option<String>,
     /// Shorthand for zero velocity on x, y and z.
     #[serde(default, skip_serializing_if = "is_false")]
     pub clamped: bool,
@@ -251,6 +283,15 @@ impl SceneSpec {
     /// hexahedra per cell edge, along all axes). A product that does not fit a count is an error
     /// naming `refine` and the body (nothing is changed then).
     pub fn refine(&mut self, k: usize) -> Result<()> {
+        if k > 1 && !self.mesh_bodies.is_empty() {
+            return Err(LopinError::setting(
+                "refine",
+                format!(
+                    "mesh bodies (`{}`) come as meshed in their file: refine the mesh in gmsh instead",
+                    self.mesh_bodies[0].name
+                ),
+            ));
+        }
         let axes = axes_of(&self.refine_axes);
         self.multiply_counts(
             "refine",

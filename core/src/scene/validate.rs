@@ -177,10 +177,10 @@ fn validate_expanded(spec: &SceneSpec, source: &str, generated: Generated) -> Re
             );
         }
     }
-    if spec.bodies.is_empty() {
+    if spec.bodies.is_empty() && spec.mesh_bodies.is_empty() {
         return err(
             "body".into(),
-            "at least one [[body]] (or a [granular] table) is needed".into(),
+            "at least one [[body]] or [[mesh_body]] (or a [granular] table) is needed".into(),
         );
     }
     let mut body_index: HashMap<&str, usize> = HashMap::with_capacity(spec.bodies.len());
@@ -229,6 +229,32 @@ fn validate_expanded(spec: &SceneSpec, source: &str, generated: Generated) -> Re
         }
     }
     let mut pairs: HashMap<(usize, usize), usize> = HashMap::with_capacity(spec.interfaces.len());
+    for (i, b) in spec.mesh_bodies.iter().enumerate() {
+        if body_index.insert(&b.name, spec.bodies.len() + i).is_some() {
+            return err(
+                format!("mesh_body[{i}].name"),
+                format!("duplicate body name `{}`", b.name),
+            );
+        }
+        if !spec.materials.iter().any(|m| m.name == b.material) {
+            return err(
+                format!("mesh_body[{i}].material"),
+                format!("no material named `{}`", b.material),
+            );
+        }
+        if b.mesh.trim().is_empty() {
+            return err(
+                format!("mesh_body[{i}].mesh"),
+                "give the .msh file (relative to the scene file)".into(),
+            );
+        }
+        if !b.velocity.iter().all(|v| v.is_finite()) {
+            return err(
+                format!("mesh_body[{i}].velocity"),
+                format!("must be finite, got {:?}", b.velocity),
+            );
+        }
+    }
     for (i, it) in spec.interfaces.iter().enumerate() {
         for (j, name) in it.bodies.iter().enumerate() {
             if !body_index.contains_key(name.as_str()) {
@@ -276,10 +302,35 @@ fn validate_expanded(spec: &SceneSpec, source: &str, generated: Generated) -> Re
         }
     }
     for (i, bc) in spec.boundaries.iter().enumerate() {
-        if !body_index.contains_key(bc.body.as_str()) {
+        let Some(&body) = body_index.get(bc.body.as_str()) else {
             return err(
                 format!("boundary[{i}].body"),
                 format!("no body named `{}`", bc.body),
+            );
+        };
+        if body >= spec.bodies.len() {
+            // a mesh body: a physical surface, not a box face
+            if bc.surface.is_none() || !bc.face.is_empty() {
+                return err(
+                    format!("boundary[{i}].surface"),
+                    format!(
+                        "`{}` is a mesh body: name a physical surface of its file with `surface = \"...\"` (not a box `face`)",
+                        bc.body
+                    ),
+                );
+            }
+            boundary_dofs(bc).map_err(|(field, reason)| {
+                LopinError::scene(source, format!("boundary[{i}].{field}"), reason)
+            })?;
+            continue;
+        }
+        if bc.surface.is_some() {
+            return err(
+                format!("boundary[{i}].surface"),
+                format!(
+                    "`{}` is a box body: its boundaries name a `face` (x-, x+, y-, y+, z-, z+);                      physical surfaces belong to [[mesh_body]] bodies",
+                    bc.body
+                ),
             );
         }
         if face_of(&bc.face).is_none() {
@@ -350,20 +401,22 @@ fn check_physics(spec: &SceneSpec, source: &str) -> Result<()> {
     }
     let boxes: Vec<_> = spec.bodies.iter().map(|b| (b.min, b.max)).collect();
     let diameter = model_diameter(&boxes);
-    let used: Vec<Material> = spec
-        .bodies
-        .iter()
-        .filter_map(|b| material(&b.material))
-        .collect();
-    let c_max = used.iter().map(Material::p_wave_speed).fold(0.0, f64::max);
-    let slowest = material::slowest(
+    let body_materials = || {
         spec.bodies
             .iter()
-            .filter_map(|b| material(&b.material).map(|m| (m.bar_speed(), b.material.as_str()))),
+            .map(|b| b.material.as_str())
+            .chain(spec.mesh_bodies.iter().map(|b| b.material.as_str()))
+    };
+    let used: Vec<Material> = body_materials().filter_map(material).collect();
+    let c_max = used.iter().map(Material::p_wave_speed).fold(0.0, f64::max);
+    let slowest = material::slowest(
+        body_materials().filter_map(|name| material(name).map(|m| (m.bar_speed(), name))),
     );
     let transit = h_min / c_max;
     let courant = spec.time.dt / transit;
-    if !in_range(courant, COURANT_RANGE) {
+    // (the elements of mesh bodies are known once their files are read: a scene of mesh bodies
+    // only has no box element to measure here)
+    if h_min.is_finite() && !in_range(courant, COURANT_RANGE) {
         return err(
             "time.dt".into(),
             format!(
@@ -420,7 +473,12 @@ fn check_physics(spec: &SceneSpec, source: &str) -> Result<()> {
 
 /// `solver.k` within [`K_RANGE`] times k0, the mean √(ρE) of the materials the bodies use.
 fn check_k(spec: &SceneSpec, source: &str, k: f64) -> Result<()> {
-    let mut used: Vec<&str> = spec.bodies.iter().map(|b| b.material.as_str()).collect();
+    let mut used: Vec<&str> = spec
+        .bodies
+        .iter()
+        .map(|b| b.material.as_str())
+        .chain(spec.mesh_bodies.iter().map(|b| b.material.as_str()))
+        .collect();
     used.sort_unstable();
     used.dedup();
     let impedances: Vec<f64> = spec

@@ -1,0 +1,124 @@
+//! The bodies of a scene taken from Gmsh files (`[[mesh_body]]`, issue 17): each is the
+//! physical volume of an MSH 4.1 file (its path relative to the scene file), one substructure
+//! with its own copy of the nodes it shares with other bodies (so interface detection pairs
+//! them on conforming faces, METHOD §1), and its boundary conditions sit on physical surfaces of
+//! the same file. A file read by several bodies is read once. Without the `msh` feature (the web
+//! build) a scene with mesh bodies is an error saying so.
+
+use crate::detect::boundary_interface_on;
+use crate::error::{LopinError, Result};
+use crate::interface::{BoundaryDof, Interface};
+use crate::mesh::Mesh;
+use crate::scene::spec::SceneSpec;
+use crate::substructure::Substructure;
+
+/// The meshes of a scene's mesh bodies, in the order of `spec.mesh_bodies`.
+#[derive(Debug, Default)]
+pub struct MeshBodies {
+    /// Each body's mesh and, per node, the node of its file it copies.
+    pub bodies: Vec<(Mesh, Vec<usize>)>,
+    /// The files read, and which one each body comes from.
+    #[cfg(feature = "msh")]
+    files: Vec<crate::msh::MshMesh>,
+    #[cfg(feature = "msh")]
+    file_of: Vec<usize>,
+}
+
+/// Where a body's mesh file lies: `mesh` as given when absolute, else beside the scene file
+/// (`source` is its path; a built-in scene has none, and the path is taken as given).
+pub fn mesh_path(source: &str, mesh: &str) -> std::path::PathBuf {
+    let m = std::path::Path::new(mesh);
+    if m.is_absolute() {
+        return m.to_path_buf();
+    }
+    match std::path::Path::new(source).parent() {
+        Some(dir) if std::path::Path::new(source).is_file() => dir.join(m),
+        _ => m.to_path_buf(),
+    }
+}
+
+/// Reads the mesh bodies of `spec` (nothing when it has none).
+pub fn read(spec: &SceneSpec, source: &str) -> Result<MeshBodies> {
+    if spec.mesh_bodies.is_empty() {
+        return Ok(MeshBodies::default());
+    }
+    read_files(spec, source)
+}
+
+#[cfg(not(feature = "msh"))]
+fn read_files(spec: &SceneSpec, source: &str) -> Result<MeshBodies> {
+    Err(LopinError::scene(
+        source,
+        "mesh_body[0].mesh",
+        format!(
+            "this build of Lopin reads no mesh files (the web build): run `{}` with the `lopin` \
+             command line",
+            spec.mesh_bodies[0].mesh
+        ),
+    ))
+}
+
+#[cfg(feature = "msh")]
+fn read_files(spec: &SceneSpec, source: &str) -> Result<MeshBodies> {
+    let mut out = MeshBodies::default();
+    let mut paths: Vec<std::path::PathBuf> = Vec::new();
+    for (i, b) in spec.mesh_bodies.iter().enumerate() {
+        let path = mesh_path(source, &b.mesh);
+        let file = match paths.iter().position(|p| *p == path) {
+            Some(f) => f,
+            None => {
+                let m = crate::msh::read(&path).map_err(|e| {
+                    LopinError::scene(source, format!("mesh_body[{i}].mesh"), e.to_string())
+                })?;
+                paths.push(path);
+                out.files.push(m);
+                out.files.len() - 1
+            }
+        };
+        let body = out.files[file].body(b.volume_name()).map_err(|e| {
+            LopinError::scene(source, format!("mesh_body[{i}].volume"), e.to_string())
+        })?;
+        out.bodies.push(body);
+        out.file_of.push(file);
+    }
+    Ok(out)
+}
+
+impl MeshBodies {
+    /// The boundary interface of mesh body `i` (substructure `sub`) on its physical surface
+    /// `surface`, prescribing `dofs`; the reason when the surface is unknown or has no face on
+    /// the body.
+    pub fn boundary(
+        &self,
+        spec: &SceneSpec,
+        subs: &[Substructure],
+        i: usize,
+        sub: usize,
+        surface: &str,
+        dofs: &[BoundaryDof],
+    ) -> std::result::Result<Interface, String> {
+        let name = &spec.mesh_bodies[i].name;
+        #[cfg(feature = "msh")]
+        {
+            let file = &self.files[self.file_of[i]];
+            let selector = file
+                .surface_selector(surface, &self.bodies[i].1)
+                .map_err(|e| e.to_string())?;
+            boundary_interface_on(subs, sub, &selector, dofs, format!("{name}:{surface}"))
+                .ok_or_else(|| {
+                    format!(
+                        "physical surface `{surface}` of {} has no face on the boundary of body \
+                         `{name}`",
+                        file.source
+                    )
+                })
+        }
+        #[cfg(not(feature = "msh"))]
+        {
+            let _ = (subs, sub, dofs, boundary_interface_on);
+            Err(format!(
+                "body `{name}`: this build reads no mesh files (surface `{surface}`)"
+            ))
+        }
+    }
+}
