@@ -12,7 +12,7 @@
 //! Node tags: `mshio` keeps them only where a file's tags are sparse; where they are
 //! contiguous (what Gmsh writes) the nodes are numbered from the smallest tag in block order.
 
-use std::collections::{BTreeMap, HashMap};
+use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::path::Path;
 
 use mshio::mshfile::ElementType;
@@ -275,19 +275,12 @@ pub fn parse(bytes: &[u8], source: &str) -> Result<MshMesh> {
             surface_physicals.insert(s.tag, s.physical_tags.clone());
         }
     }
-    let mut seen: BTreeMap<(i32, i32), ()> = BTreeMap::new();
+    let mut seen: BTreeSet<(i32, i32)> = names.keys().copied().collect();
     for (dim, map) in [(3, &volume_physicals), (2, &surface_physicals)] {
-        for tags in map.values() {
-            for t in tags {
-                seen.insert((dim, t.abs()), ());
-            }
-        }
-    }
-    for key in names.keys() {
-        seen.insert(*key, ());
+        seen.extend(map.values().flatten().map(|t| (dim, t.abs())));
     }
     let physicals = seen
-        .into_keys()
+        .into_iter()
         .map(|(dim, tag)| PhysicalGroup {
             dim,
             tag,
@@ -417,29 +410,15 @@ impl MshMesh {
     /// The cells of the physical volume `name`.
     pub fn volume_cells(&self, name: &str) -> Result<Vec<&Cell>> {
         let tag = self.physical(3, name)?.tag;
-        Ok(self
-            .cells
-            .iter()
-            .filter(|c| {
-                self.volume_physicals
-                    .get(&c.entity)
-                    .is_some_and(|t| t.iter().any(|p| p.abs() == tag))
-            })
-            .collect())
+        let inside = |e| in_group(&self.volume_physicals, e, tag);
+        Ok(self.cells.iter().filter(|c| inside(c.entity)).collect())
     }
 
     /// The facets of the physical surface `name`.
     pub fn surface_facets(&self, name: &str) -> Result<Vec<&Facet>> {
         let tag = self.physical(2, name)?.tag;
-        Ok(self
-            .facets
-            .iter()
-            .filter(|f| {
-                self.surface_physicals
-                    .get(&f.entity)
-                    .is_some_and(|t| t.iter().any(|p| p.abs() == tag))
-            })
-            .collect())
+        let inside = |e| in_group(&self.surface_physicals, e, tag);
+        Ok(self.facets.iter().filter(|f| inside(f.entity)).collect())
     }
 
     /// The mesh of the physical volume `name` as one body: its cells, with their nodes numbered
@@ -534,4 +513,12 @@ impl MshMesh {
             })
             .sum()
     }
+}
+
+/// Whether entity `entity` belongs to the physical group `tag` (Gmsh writes a negative tag for
+/// a reversed orientation).
+fn in_group(physicals: &HashMap<i32, Vec<i32>>, entity: i32, tag: i32) -> bool {
+    physicals
+        .get(&entity)
+        .is_some_and(|t| t.iter().any(|p| p.abs() == tag))
 }

@@ -133,7 +133,7 @@ pub fn build(spec: &SceneSpec, source: &str) -> Result<Problem> {
         .collect();
     // bodies from Gmsh files: one substructure each (issue 17)
     let meshes = mesh_bodies::read(spec, source)?;
-    for (i, (b, (mesh, _))) in spec.mesh_bodies.iter().zip(&meshes.bodies).enumerate() {
+    for (b, (mesh, _)) in spec.mesh_bodies.iter().zip(&meshes.bodies) {
         let material_id = materials
             .iter()
             .position(|m| m.name == b.material)
@@ -148,7 +148,6 @@ pub fn build(spec: &SceneSpec, source: &str) -> Result<Problem> {
             b.velocity,
             &mut cache,
         ));
-        debug_assert_eq!(body_subs.len(), spec.bodies.len() + i + 1);
     }
     // the override of each pair of bodies, looked up by pair (scenes have hundreds of bodies)
     let body_index: HashMap<&str, usize> = spec
