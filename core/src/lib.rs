@@ -58,6 +58,7 @@ pub mod search_direction;
 #[cfg(feature = "latin")]
 pub mod solver;
 pub mod sparse;
+pub mod splitmix;
 #[cfg(feature = "latin")]
 pub mod state;
 pub mod stop_test;

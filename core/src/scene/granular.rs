@@ -18,6 +18,7 @@ use crate::error::{LopinError, Result};
 use crate::scene::spec::{
     BodySpec, BoundarySpec, ComponentSpec, InterfaceKind, InterfaceSpec, SceneSpec,
 };
+use crate::splitmix::SplitMix64;
 
 /// The `[granular]` table: the generator's parameters.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -169,26 +170,6 @@ impl Layout {
             Some(g) => format!("G{}[{i},{j},{k}]", g + 1),
             None => format!("M[{i},{j},{k}]"),
         }
-    }
-}
-
-/// The splitmix64 generator (Steele, Lea, Flood 2014), written out rather than taken from a
-/// crate: a scene's grain layout is part of its definition, so the stream of a seed must never
-/// change with a dependency's version.
-struct SplitMix64(u64);
-
-impl SplitMix64 {
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// A number in 0..n (n ≥ 1), by the multiply-shift map of the 64-bit output.
-    fn below(&mut self, n: usize) -> usize {
-        ((u128::from(self.next_u64()) * n as u128) >> 64) as usize
     }
 }
 
@@ -470,15 +451,6 @@ mod tests {
 
     fn table(spec: &mut SceneSpec) -> &mut GranularSpec {
         spec.granular.as_mut().expect("granular")
-    }
-
-    /// The reference outputs of splitmix64 for seed 0 (Vigna's splitmix64.c).
-    #[test]
-    fn splitmix64_gives_the_reference_stream() {
-        let mut r = SplitMix64(0);
-        assert_eq!(r.next_u64(), 0xE220_A839_7B1D_CDAF);
-        assert_eq!(r.next_u64(), 0x6E78_9E6A_A1B9_65F4);
-        assert_eq!(r.next_u64(), 0x06C4_5D18_8009_454F);
     }
 
     #[test]
