@@ -50,6 +50,8 @@ pub mod operator_classes;
 #[cfg(feature = "latin")]
 mod par;
 pub mod parameter;
+#[cfg(feature = "partition")]
+pub mod partition;
 #[cfg(feature = "latin")]
 pub mod post;
 pub mod problem;

@@ -26,6 +26,22 @@ impl Element {
         }
     }
 
+    /// The same element on other node numbers.
+    pub fn map_nodes(&self, f: impl FnMut(usize) -> usize) -> Element {
+        match self {
+            Self::Hex8(n) => Self::Hex8(n.map(f)),
+            Self::Tet4(n) => Self::Tet4(n.map(f)),
+        }
+    }
+
+    /// The node numbers of each face, counter-clockwise seen from outside.
+    pub fn face_nodes(&self) -> impl Iterator<Item = Vec<usize>> + '_ {
+        let n = self.nodes();
+        self.faces()
+            .iter()
+            .map(move |f| f.iter().map(|&l| n[l]).collect())
+    }
+
     /// Local node lists of the faces, each counter-clockwise seen from outside.
     fn faces(&self) -> &'static [&'static [usize]] {
         match self {

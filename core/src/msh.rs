@@ -451,10 +451,7 @@ impl MshMesh {
         };
         let elements = cells
             .iter()
-            .map(|c| match c.nodes {
-                Element::Tet4(n) => Element::Tet4(n.map(&mut renumber)),
-                Element::Hex8(n) => Element::Hex8(n.map(&mut renumber)),
-            })
+            .map(|c| c.nodes.map_nodes(&mut renumber))
             .collect();
         Ok((Mesh { nodes, elements }, file_node))
     }

@@ -90,6 +90,7 @@ impl Bar1d {
                 split: [1, 1, 1],
                 velocity: [s.velocity, 0.0, 0.0],
                 elements: None,
+                substructures: None,
             });
         }
         let interfaces = self

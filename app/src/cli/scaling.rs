@@ -70,6 +70,7 @@ pub fn cube(n: usize, elements: usize, steps: usize) -> SceneSpec {
             split: [n; 3],
             velocity: [0.0; 3],
             elements: None,
+            substructures: None,
         }],
         interfaces: vec![],
         boundaries: vec![

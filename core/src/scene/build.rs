@@ -12,7 +12,7 @@ use crate::mesh::{Mesh, Vec3};
 use crate::problem::{NamedMaterial, Problem};
 use crate::scene::granular;
 use crate::scene::mesh_bodies;
-use crate::scene::spec::{ElementKind, InterfaceKind, SceneSpec};
+use crate::scene::spec::{BodySpec, ElementKind, InterfaceKind, SceneSpec};
 pub use crate::scene::validate::validate;
 use crate::scene::validate::{boundary_dofs, pair_key};
 use crate::substructure::{StiffnessCache, Substructure};
@@ -30,17 +30,15 @@ pub fn face_of(name: &str) -> Option<(usize, f64)> {
     }
 }
 
-/// One substructure of a body before assembly: a box of hexahedra.
+/// One substructure of a body before assembly.
 struct Piece {
     /// Index of the body.
     body: usize,
-    /// Substructure name (`body` or `body[i,j,k]` when the body is split).
+    /// Substructure name (`body`, `body[i,j,k]` for a split box, `body[p]` for a partitioned
+    /// body).
     name: String,
-    /// Lower and upper corners.
-    min: Vec3,
-    max: Vec3,
-    /// Elements along x, y, z.
-    divisions: [usize; 3],
+    /// Its mesh.
+    mesh: Mesh,
 }
 
 /// Builds the discrete problem of a scene (validated first; a `[granular]` table is expanded).
@@ -65,13 +63,28 @@ pub fn build(spec: &SceneSpec, source: &str) -> Result<Problem> {
     let mut pieces: Vec<Piece> = Vec::new();
     let mut body_subs: Vec<Vec<usize>> = Vec::new();
     for (body, b) in spec.bodies.iter().enumerate() {
+        let mut ids = Vec::new();
+        if let Some(n) = b.substructures {
+            let mesh = box_mesh(b, b.min, b.max, b.divisions);
+            let parts = cut(mesh, n, source, &format!("body[{body}].substructures"))?;
+            let count = parts.len();
+            for (p, (mesh, _)) in parts.into_iter().enumerate() {
+                ids.push(pieces.len());
+                pieces.push(Piece {
+                    body,
+                    name: part_name(&b.name, p, count),
+                    mesh,
+                });
+            }
+            body_subs.push(ids);
+            continue;
+        }
         let [sx, sy, sz] = b.split;
         let div = [
             b.divisions[0] / sx,
             b.divisions[1] / sy,
             b.divisions[2] / sz,
         ];
-        let mut ids = Vec::new();
         for iz in 0..sz {
             for iy in 0..sy {
                 for ix in 0..sx {
@@ -88,9 +101,7 @@ pub fn build(spec: &SceneSpec, source: &str) -> Result<Problem> {
                     pieces.push(Piece {
                         body,
                         name,
-                        min: lo,
-                        max: hi,
-                        divisions: div,
+                        mesh: box_mesh(b, lo, hi, div),
                     });
                 }
             }
@@ -111,44 +122,57 @@ pub fn build(spec: &SceneSpec, source: &str) -> Result<Problem> {
     // cells assembles a handful)
     let mut cache = StiffnessCache::default();
     let mut subs: Vec<Substructure> = pieces
-        .iter()
+        .into_iter()
         .map(|piece| {
             let b = &spec.bodies[piece.body];
             let material_id = material_of[piece.body];
-            let mesh = Mesh::hex_box(piece.min, piece.max, piece.divisions);
-            let mesh = match b.elements.unwrap_or_default() {
-                ElementKind::Hex8 => mesh,
-                ElementKind::Tet4 => mesh.split_into_tets(),
-            };
             Substructure::assemble_cached(
-                piece.name.clone(),
+                piece.name,
                 b.name.clone(),
                 material_id,
-                mesh,
+                piece.mesh,
                 materials[material_id].material,
                 b.velocity,
                 &mut cache,
             )
         })
         .collect();
-    // bodies from Gmsh files: one substructure each (issue 17)
+    // bodies from Gmsh files: one substructure each, or the parts the partitioner cuts
+    // (issue 17); per substructure, the file node of each of its nodes
     let meshes = mesh_bodies::read(spec, source)?;
-    for (b, (mesh, _)) in spec.mesh_bodies.iter().zip(&meshes.bodies) {
+    let mut file_nodes: Vec<Vec<usize>> = Vec::new();
+    for (i, (b, (mesh, file_node))) in spec.mesh_bodies.iter().zip(&meshes.bodies).enumerate() {
         let material_id = materials
             .iter()
             .position(|m| m.name == b.material)
             .unwrap_or_default();
-        body_subs.push(vec![subs.len()]);
-        subs.push(Substructure::assemble_cached(
-            b.name.clone(),
-            b.name.clone(),
-            material_id,
-            mesh.clone(),
-            materials[material_id].material,
-            b.velocity,
-            &mut cache,
-        ));
+        let parts = match b.substructures {
+            Some(n) => cut(
+                mesh.clone(),
+                n,
+                source,
+                &format!("mesh_body[{i}].substructures"),
+            )?,
+            None => vec![(mesh.clone(), (0..mesh.nodes.len()).collect())],
+        };
+        let count = parts.len();
+        let mut ids = Vec::new();
+        for (p, (part, origin)) in parts.into_iter().enumerate() {
+            ids.push(subs.len());
+            file_nodes.push(origin.iter().map(|&o| file_node[o]).collect());
+            subs.push(Substructure::assemble_cached(
+                part_name(&b.name, p, count),
+                b.name.clone(),
+                material_id,
+                part,
+                materials[material_id].material,
+                b.velocity,
+                &mut cache,
+            ));
+        }
+        body_subs.push(ids);
     }
+    let box_subs = subs.len() - file_nodes.len();
     // the override of each pair of bodies, looked up by pair (scenes have hundreds of bodies)
     let body_index: HashMap<&str, usize> = spec
         .bodies
@@ -193,17 +217,18 @@ pub fn build(spec: &SceneSpec, source: &str) -> Result<Problem> {
         if body >= spec.bodies.len() {
             let dofs = boundary_dofs(bc)
                 .map_err(|(f, r)| LopinError::scene(source, format!("boundary[{i}].{f}"), r))?;
-            let it = meshes.boundary(
-                spec,
-                &subs,
-                body - spec.bodies.len(),
-                body_subs[body][0],
-                bc.surface.as_deref().unwrap_or_default(),
-                &dofs,
-            );
-            interfaces.push(
-                it.map_err(|r| LopinError::scene(source, format!("boundary[{i}].surface"), r))?,
-            );
+            let found = meshes
+                .boundary(
+                    spec,
+                    &subs,
+                    body - spec.bodies.len(),
+                    &body_subs[body],
+                    &file_nodes[body_subs[body][0] - box_subs..],
+                    bc.surface.as_deref().unwrap_or_default(),
+                    &dofs,
+                )
+                .map_err(|r| LopinError::scene(source, format!("boundary[{i}].surface"), r))?;
+            interfaces.extend(found);
             continue;
         }
         let (axis, sign) = face_of(&bc.face).unwrap_or((0, 1.0));
@@ -307,6 +332,47 @@ fn check_overrides_found(
         ));
     }
     Ok(())
+}
+
+/// The mesh of a box body (or of one of its split boxes).
+fn box_mesh(b: &BodySpec, min: Vec3, max: Vec3, divisions: [usize; 3]) -> Mesh {
+    let mesh = Mesh::hex_box(min, max, divisions);
+    match b.elements.unwrap_or_default() {
+        ElementKind::Hex8 => mesh,
+        ElementKind::Tet4 => mesh.split_into_tets(),
+    }
+}
+
+/// The name of part `p` of `count` cut from body `body`.
+fn part_name(body: &str, p: usize, count: usize) -> String {
+    if count == 1 {
+        body.to_string()
+    } else {
+        format!("{body}[{p}]")
+    }
+}
+
+/// A body's mesh cut into `n` substructures by the graph partitioner (each part's mesh, and per
+/// node the body node it copies); `field` names the scene field in errors.
+fn cut(mesh: Mesh, n: usize, source: &str, field: &str) -> Result<Vec<(Mesh, Vec<usize>)>> {
+    #[cfg(feature = "partition")]
+    {
+        crate::partition::partition(&mesh, n)
+            .map(|p| p.parts)
+            .map_err(|r| LopinError::scene(source, field, r))
+    }
+    #[cfg(not(feature = "partition"))]
+    {
+        if n > 1 {
+            return Err(LopinError::scene(
+                source,
+                field,
+                "this build of Lopin has no graph partitioner (the web build)",
+            ));
+        }
+        let all = (0..mesh.nodes.len()).collect();
+        Ok(vec![(mesh, all)])
+    }
 }
 
 fn lerp(a: f64, b: f64, i: usize, n: usize) -> f64 {

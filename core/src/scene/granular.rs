@@ -388,6 +388,7 @@ pub fn expand(spec: &SceneSpec, source: &str) -> Result<SceneSpec> {
                 split: [1, 1, 1],
                 velocity: [0.0; 3],
                 elements: None,
+                substructures: None,
             }
         })
         .collect();

@@ -85,37 +85,45 @@ fn read_files(spec: &SceneSpec, source: &str) -> Result<MeshBodies> {
 }
 
 impl MeshBodies {
-    /// The boundary interface of mesh body `i` (substructure `sub`) on its physical surface
-    /// `surface`, prescribing `dofs`; the reason when the surface is unknown or has no face on
-    /// the body.
+    /// The boundary interfaces of mesh body `i` on its physical surface `surface`, prescribing
+    /// `dofs`: one per substructure of the body (`subs_of`, with per substructure the file node
+    /// of each of its nodes in `file_nodes`) that has a face on it; the reason when the surface
+    /// is unknown or has no face on the body.
+    #[allow(clippy::too_many_arguments)]
     pub fn boundary(
         &self,
         spec: &SceneSpec,
         subs: &[Substructure],
         i: usize,
-        sub: usize,
+        subs_of: &[usize],
+        file_nodes: &[Vec<usize>],
         surface: &str,
         dofs: &[BoundaryDof],
-    ) -> std::result::Result<Interface, String> {
+    ) -> std::result::Result<Vec<Interface>, String> {
         let name = &spec.mesh_bodies[i].name;
         #[cfg(feature = "msh")]
         {
             let file = &self.files[self.file_of[i]];
-            let selector = file
-                .surface_selector(surface, &self.bodies[i].1)
-                .map_err(|e| e.to_string())?;
-            boundary_interface_on(subs, sub, &selector, dofs, format!("{name}:{surface}"))
-                .ok_or_else(|| {
-                    format!(
-                        "physical surface `{surface}` of {} has no face on the boundary of body \
-                         `{name}`",
-                        file.source
-                    )
-                })
+            let mut found = Vec::new();
+            for (&sub, file_node) in subs_of.iter().zip(file_nodes) {
+                let selector = file
+                    .surface_selector(surface, file_node)
+                    .map_err(|e| e.to_string())?;
+                let label = format!("{}:{surface}", subs[sub].name);
+                found.extend(boundary_interface_on(subs, sub, &selector, dofs, label));
+            }
+            if found.is_empty() {
+                return Err(format!(
+                    "physical surface `{surface}` of {} has no face on the boundary of body \
+                     `{name}`",
+                    file.source
+                ));
+            }
+            Ok(found)
         }
         #[cfg(not(feature = "msh"))]
         {
-            let _ = (subs, sub, dofs, boundary_interface_on);
+            let _ = (subs, subs_of, file_nodes, dofs, boundary_interface_on);
             Err(format!(
                 "body `{name}`: this build reads no mesh files (surface `{surface}`)"
             ))

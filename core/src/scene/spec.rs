@@ -144,9 +144,14 @@ pub struct BodySpec {
     /// tetrahedra along its diagonal, [`crate::mesh::Mesh::split_into_tets`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub elements: Option<ElementKind>,
+    /// Substructures cut from the body's mesh by the graph partitioner
+    /// ([`crate::partition`]); instead of `split`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub substructures: Option<usize>,
 }
 
-/// A body taken from a Gmsh MSH 4.1 file: the cells of one physical volume, one substructure.
+/// A body taken from a Gmsh MSH 4.1 file: the cells of one physical volume, one substructure or
+/// `substructures` cut by the graph partitioner.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MeshBodySpec {
@@ -162,6 +167,10 @@ pub struct MeshBodySpec {
     /// Initial velocity (m/s).
     #[serde(default, deserialize_with = "exactly")]
     pub velocity: [f64; 3],
+    /// Substructures cut from the body's mesh by the graph partitioner
+    /// ([`crate::partition`]); absent: the body is one substructure.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub substructures: Option<usize>,
 }
 
 impl MeshBodySpec {

@@ -18,7 +18,7 @@ use crate::material::{self, Material};
 use crate::scene::admission::{self, SolveShape};
 use crate::scene::build::face_of;
 use crate::scene::granular;
-use crate::scene::spec::{BoundarySpec, ComponentSpec, InterfaceKind, SceneSpec};
+use crate::scene::spec::{BoundarySpec, ComponentSpec, ElementKind, InterfaceKind, SceneSpec};
 use crate::time_function::TimeFunction;
 
 /// Checks every field of a scene; `source` names the file or built-in scene in errors. A
@@ -227,6 +227,23 @@ fn validate_expanded(spec: &SceneSpec, source: &str, generated: Generated) -> Re
         if b.velocity.iter().any(|v| !v.is_finite()) {
             return err(format!("body[{i}].velocity"), "must be finite".into());
         }
+        if let Some(n) = b.substructures {
+            let elements = b.divisions.iter().product::<usize>()
+                * match b.elements.unwrap_or_default() {
+                    ElementKind::Hex8 => 1,
+                    ElementKind::Tet4 => 6,
+                };
+            check_substructures(n, elements)
+                .map_err(|r| LopinError::scene(source, format!("body[{i}].substructures"), r))?;
+            if b.split != [1, 1, 1] {
+                return err(
+                    format!("body[{i}].substructures"),
+                    "give either `split` (a grid of boxes) or `substructures` (cut by the graph \
+                     partitioner), not both"
+                        .into(),
+                );
+            }
+        }
     }
     let mut pairs: HashMap<(usize, usize), usize> = HashMap::with_capacity(spec.interfaces.len());
     for (i, b) in spec.mesh_bodies.iter().enumerate() {
@@ -253,6 +270,11 @@ fn validate_expanded(spec: &SceneSpec, source: &str, generated: Generated) -> Re
                 format!("mesh_body[{i}].velocity"),
                 format!("must be finite, got {:?}", b.velocity),
             );
+        }
+        if let Some(n) = b.substructures {
+            check_substructures(n, usize::MAX).map_err(|r| {
+                LopinError::scene(source, format!("mesh_body[{i}].substructures"), r)
+            })?;
         }
     }
     for (i, it) in spec.interfaces.iter().enumerate() {
@@ -580,6 +602,27 @@ pub(crate) fn boundary_dofs(
         ));
     }
     Ok(dofs)
+}
+
+/// The reason when `n` substructures cannot be cut from a body of `elements` elements, or this
+/// build has no graph partitioner (the web build).
+fn check_substructures(n: usize, elements: usize) -> std::result::Result<(), String> {
+    if n == 0 {
+        return Err("must be at least 1".into());
+    }
+    if n > elements {
+        return Err(format!(
+            "{n} substructures asked of a body of {elements} elements (at most one per element)"
+        ));
+    }
+    if n > 1 && !cfg!(feature = "partition") {
+        return Err(
+            "this build of Lopin has no graph partitioner (the web build): use `split`, or run \
+             the scene with the `lopin` command line"
+                .into(),
+        );
+    }
+    Ok(())
 }
 
 fn component_law(c: &ComponentSpec) -> std::result::Result<DofLaw, String> {
