@@ -28,6 +28,8 @@ pub mod error;
 #[cfg(feature = "latin")]
 pub mod estimate;
 pub mod factor;
+#[cfg(feature = "msh")]
+pub mod gmsh;
 pub mod hex8;
 pub mod histories;
 #[cfg(feature = "latin")]

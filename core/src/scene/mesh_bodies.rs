@@ -1,5 +1,6 @@
 //! The bodies of a scene taken from Gmsh files (`[[mesh_body]]`, issue 17): each is the
-//! physical volume of an MSH 4.1 file (its path relative to the scene file), one substructure
+//! physical volume of an MSH 4.1 file (its path relative to the scene file; a `.geo` script is
+//! meshed by gmsh first, [`crate::gmsh`]), one substructure (or the parts the partitioner cuts)
 //! with its own copy of the nodes it shares with other bodies (so interface detection pairs
 //! them on conforming faces, METHOD §1), and its boundary conditions sit on physical surfaces of
 //! the same file. A file read by several bodies is read once. Without the `msh` feature (the web
@@ -67,9 +68,16 @@ fn read_files(spec: &SceneSpec, source: &str) -> Result<MeshBodies> {
         let file = match paths.iter().position(|p| *p == path) {
             Some(f) => f,
             None => {
-                let m = crate::msh::read(&path).map_err(|e| {
-                    LopinError::scene(source, format!("mesh_body[{i}].mesh"), e.to_string())
-                })?;
+                let field = || format!("mesh_body[{i}].mesh");
+                // a gmsh script is meshed first (cached by its content)
+                let msh = if path.extension().is_some_and(|e| e == "geo") {
+                    crate::gmsh::mesh_geo_file(&path)
+                        .map_err(|e| LopinError::scene(source, field(), e.to_string()))?
+                } else {
+                    path.clone()
+                };
+                let m = crate::msh::read(&msh)
+                    .map_err(|e| LopinError::scene(source, field(), e.to_string()))?;
                 paths.push(path);
                 out.files.push(m);
                 out.files.len() - 1

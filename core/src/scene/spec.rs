@@ -159,7 +159,8 @@ pub struct MeshBodySpec {
     pub name: String,
     /// Material name.
     pub material: String,
-    /// The .msh file, relative to the scene file (or absolute).
+    /// The .msh file, or a .geo script that gmsh meshes ([`crate::gmsh`]), relative to the
+    /// scene file (or absolute).
     pub mesh: String,
     /// The physical volume (absent: the body's name).
     #[serde(default, skip_serializing_if = "Option::is_none")]
