@@ -1,13 +1,16 @@
 #!/usr/bin/env bash
 # Starts the real `lopin` binary in a real window under Xvfb (software rendering) and either
-#   smoke    : waits for the window, takes a screenshot (out/explorer-smoke.png) and checks that
-#              the 3D view is drawn (enough colormap-coloured pixels, not just the background);
-#   measure  : runs `lopin view two-blocks --measure` (slider moves of 0.05; re-solve latency and
-#              frame intervals) and prints the JSON (out/explorer-measure.json).
+#   smoke [SCENE]   : waits for the window, takes a screenshot (out/explorer-smoke.png) and
+#                     checks that the 3D view is drawn (enough colormap-coloured pixels, not just
+#                     the background); without SCENE, `lopin` as the README starts it;
+#   measure [SCENE] : runs `lopin view SCENE --measure` (default two-blocks; slider moves of
+#                     0.05; re-solve latency and frame intervals) and prints the JSON
+#                     (out/explorer-measure.json).
 # Needs: xvfb xauth mesa-vulkan-drivers libvulkan1 imagemagick xdotool (scripts/install-gui-deps.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 mode="${1:-smoke}"
+scene="${2:-}"
 mkdir -p out
 cargo build --release -q -p lopin
 bin=target/release/lopin
@@ -30,11 +33,15 @@ unset WAYLAND_DISPLAY
 for _ in $(seq 50); do xdotool getdisplaygeometry >/dev/null 2>&1 && break; sleep 0.1; done
 
 if [ "$mode" = measure ]; then
-    timeout 300 "$bin" view two-blocks --measure out/explorer-measure.json
+    timeout 300 "$bin" view "${scene:-two-blocks}" --measure out/explorer-measure.json
     exit 0
 fi
 
-"$bin" >/tmp/lopin-explorer.log 2>&1 &
+if [ -n "$scene" ]; then
+    "$bin" view "$scene" >/tmp/lopin-explorer.log 2>&1 &
+else
+    "$bin" >/tmp/lopin-explorer.log 2>&1 &
+fi
 app=$!
 if ! timeout 60 xdotool search --sync --name "Lopin" >/dev/null; then
     echo "smoke: no Lopin window within 60 s"; cat /tmp/lopin-explorer.log; exit 1

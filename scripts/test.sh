@@ -1,12 +1,15 @@
 #!/usr/bin/env bash
 # The whole test suite, from a fresh Debian machine: installs the software Vulkan driver and Xvfb
 # the explorer's tests need and the independent readers the export tests check files with
-# (meshio, the rerun tool), runs every test in an optimized build, then starts the real
+# (meshio, the rerun tool) and gmsh (the meshes of assets/meshes/ and the polyhedral granular
+# scenes), runs every test in an optimized build, then starts the real
 # explorer in a window under Xvfb and checks its 3D view is drawn, and finally builds the web
 # explorer (WebAssembly, dist/) and drives it in headless Chromium (scripts/test-web.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ./scripts/install-gui-deps.sh
+gmsh="$(./scripts/install-gmsh.sh)"
+if [ -n "$gmsh" ]; then export LOPIN_GMSH="$gmsh"; fi
 readers="$(./scripts/install-readers.sh)"
 export LOPIN_PYTHON="$readers/python" LOPIN_RERUN="$readers/rerun"
 export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-$(mktemp -d)}"

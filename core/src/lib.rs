@@ -30,6 +30,7 @@ pub mod estimate;
 pub mod factor;
 #[cfg(feature = "msh")]
 pub mod gmsh;
+pub mod grain_geometry;
 pub mod hex8;
 pub mod histories;
 #[cfg(feature = "latin")]

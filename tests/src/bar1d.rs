@@ -133,6 +133,7 @@ impl Bar1d {
             granular: None,
             bodies,
             mesh_bodies: Vec::new(),
+            granular_poly: None,
             interfaces,
             boundaries,
         }

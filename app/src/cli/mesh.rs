@@ -2,6 +2,7 @@
 //! checks every element, and prints what Lopin sees: nodes, cells and facets by type, the
 //! bounding box, and each physical group with its element count and volume or area (`--json`:
 //! the same as one object). A file Lopin cannot use is an error naming it and the reason.
+//! `lopin mesh granular` lives in [`super::mesh_granular`].
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -17,6 +18,8 @@ use super::report::column_table;
 pub enum MeshCommand {
     /// Read an MSH 4.1 file and print its nodes, elements and physical groups.
     Info(InfoArgs),
+    /// Generate the polyhedral granular sample of a [granular_poly] scene and mesh it with gmsh.
+    Granular(super::mesh_granular::GranularArgs),
 }
 
 #[derive(Debug, Args)]
@@ -92,6 +95,7 @@ fn info_of(m: &MshMesh) -> anyhow::Result<Info> {
 
 pub fn mesh(cmd: &MeshCommand) -> anyhow::Result<ExitCode> {
     match cmd {
+        MeshCommand::Granular(args) => super::mesh_granular::granular(args),
         MeshCommand::Info(args) => {
             let m = msh::read(&args.file)?;
             let info = info_of(&m)?;

@@ -7,6 +7,7 @@ mod compare;
 mod estimate;
 mod export;
 mod mesh;
+mod mesh_granular;
 mod outputs;
 mod plot;
 mod reference;

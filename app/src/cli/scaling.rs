@@ -61,6 +61,7 @@ pub fn cube(n: usize, elements: usize, steps: usize) -> SceneSpec {
             density: 2400.0,
         }],
         mesh_bodies: Vec::new(),
+        granular_poly: None,
         bodies: vec![BodySpec {
             name: "cube".into(),
             material: "matrix".into(),

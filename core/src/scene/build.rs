@@ -11,6 +11,7 @@ use crate::material::Material;
 use crate::mesh::{Mesh, Vec3};
 use crate::problem::{NamedMaterial, Problem};
 use crate::scene::granular;
+use crate::scene::granular_poly;
 use crate::scene::mesh_bodies;
 use crate::scene::spec::{BodySpec, ElementKind, InterfaceKind, SceneSpec};
 pub use crate::scene::validate::validate;
@@ -45,6 +46,9 @@ struct Piece {
 pub fn build(spec: &SceneSpec, source: &str) -> Result<Problem> {
     if spec.granular.is_some() {
         return build(&granular::expand(spec, source)?, source);
+    }
+    if spec.granular_poly.is_some() {
+        return build(&granular_poly::expand(spec, source)?, source);
     }
     validate(spec, source)?;
     let materials: Vec<NamedMaterial> = spec

@@ -7,6 +7,7 @@ pub mod admission;
 pub mod build;
 mod exact;
 pub mod granular;
+pub mod granular_poly;
 pub mod mesh_bodies;
 pub mod registry;
 pub mod spec;

@@ -9,7 +9,7 @@ use crate::error::Result;
 use crate::scene::{from_toml, SceneSpec};
 
 /// Names of the built-in scenes, in display order.
-pub const SCENES: [&str; 7] = [
+pub const SCENES: [&str; 9] = [
     "bar",
     "bar-bimaterial",
     "two-blocks",
@@ -17,6 +17,8 @@ pub const SCENES: [&str; 7] = [
     "gap-impact",
     "granular-small",
     "granular-paper",
+    "granular-poly",
+    "granular-poly-paper",
 ];
 
 /// Names of the test scenes: small versions of built-in scenes that the stress suite varies
@@ -24,8 +26,9 @@ pub const SCENES: [&str; 7] = [
 pub const TEST_SCENES: [&str; 4] = ["mini-blocks", "mini-impact", "mini-bar", "mini-impact-tet"];
 
 /// Built-in scenes too large for the test suite's solves and the explorer's scene picker
-/// (`granular-paper`: 648 substructures, about 1 million dofs, about 1 GB to build).
-pub const LARGE: [&str; 1] = ["granular-paper"];
+/// (`granular-paper`: 648 substructures, about 1 million dofs, about 1 GB to build;
+/// `granular-poly-paper`: its polyhedral version, about 620 substructures).
+pub const LARGE: [&str; 2] = ["granular-paper", "granular-poly-paper"];
 
 /// Whether a built-in scene is too large to solve in the tests or to offer in the explorer.
 pub fn is_large(name: &str) -> bool {
@@ -42,6 +45,8 @@ pub fn source(name: &str) -> Option<&'static str> {
         "gap-impact" => include_str!("../../../assets/scenes/gap-impact.toml"),
         "granular-small" => include_str!("../../../assets/scenes/granular-small.toml"),
         "granular-paper" => include_str!("../../../assets/scenes/granular-paper.toml"),
+        "granular-poly" => include_str!("../../../assets/scenes/granular-poly.toml"),
+        "granular-poly-paper" => include_str!("../../../assets/scenes/granular-poly-paper.toml"),
         "mini-blocks" => include_str!("../../../assets/scenes/test/mini-blocks.toml"),
         "mini-impact" => include_str!("../../../assets/scenes/test/mini-impact.toml"),
         "mini-bar" => include_str!("../../../assets/scenes/test/mini-bar.toml"),

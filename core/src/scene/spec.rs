@@ -8,6 +8,7 @@ use serde::{Deserialize, Serialize};
 use crate::error::{LopinError, Result};
 use crate::scene::exact::exactly;
 use crate::scene::granular::GranularSpec;
+use crate::scene::granular_poly::GranularPolySpec;
 use crate::time_function::{Ramp, TimeGrid};
 
 /// A whole scene.
@@ -37,6 +38,11 @@ pub struct SceneSpec {
     /// boundaries are generated from it and must not be listed ([`crate::scene::granular`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub granular: Option<GranularSpec>,
+    /// A generated granular material with polyhedral grains meshed by gmsh (`[granular_poly]`):
+    /// when present, the bodies, interfaces and boundaries are generated from it
+    /// ([`crate::scene::granular_poly`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub granular_poly: Option<GranularPolySpec>,
     /// Bodies: boxes meshed with hexahedra and cut into substructures.
     #[serde(default, rename = "body", skip_serializing_if = "Vec::is_empty")]
     pub bodies: Vec<BodySpec>,
@@ -293,6 +299,11 @@ impl SceneSpec {
     /// hexahedra per cell edge, along all axes). A product that does not fit a count is an error
     /// naming `refine` and the body (nothing is changed then).
     pub fn refine(&mut self, k: usize) -> Result<()> {
+        if let Some(g) = &mut self.granular_poly {
+            // a generated sample is meshed finer
+            g.mesh_size /= k.max(1) as f64;
+            return Ok(());
+        }
         if k > 1 && !self.mesh_bodies.is_empty() {
             return Err(LopinError::setting(
                 "refine",
@@ -316,6 +327,14 @@ impl SceneSpec {
     /// substructure per cell: there the request is recorded and validation rejects n ≠ 1 with a
     /// message saying so. A product that does not fit a count is an error naming `split`.
     pub fn split(&mut self, n: usize) -> Result<()> {
+        if let Some(g) = &mut self.granular_poly {
+            // the matrix of a polyhedral sample is cut into n times more substructures
+            g.matrix_substructures = g
+                .matrix_substructures
+                .checked_mul(n)
+                .ok_or_else(|| LopinError::setting("split", "does not fit a 64-bit count"))?;
+            return Ok(());
+        }
         let axes = axes_of(&self.split_axes);
         self.multiply_counts(
             "split",
@@ -366,6 +385,7 @@ impl SceneSpec {
     /// granular scene).
     pub fn has_contact(&self) -> bool {
         self.granular.as_ref().is_some_and(|g| g.grains > 0)
+            || self.granular_poly.as_ref().is_some_and(|g| g.grains > 0)
             || self
                 .interfaces
                 .iter()
@@ -376,6 +396,9 @@ impl SceneSpec {
     /// contacts of a granular scene).
     pub fn set_friction(&mut self, f: f64) {
         if let Some(g) = &mut self.granular {
+            g.friction = f;
+        }
+        if let Some(g) = &mut self.granular_poly {
             g.friction = f;
         }
         for i in &mut self.interfaces {

@@ -18,12 +18,17 @@ use crate::material::{self, Material};
 use crate::scene::admission::{self, SolveShape};
 use crate::scene::build::face_of;
 use crate::scene::granular;
+use crate::scene::granular_poly;
 use crate::scene::spec::{BoundarySpec, ComponentSpec, ElementKind, InterfaceKind, SceneSpec};
 use crate::time_function::TimeFunction;
 
 /// Checks every field of a scene; `source` names the file or built-in scene in errors. A
 /// granular scene is checked as its `[granular]` table, then as the scene it expands to.
 pub fn validate(spec: &SceneSpec, source: &str) -> Result<()> {
+    if spec.granular_poly.is_some() {
+        // the table alone: the generated scene is checked when it is built (after meshing)
+        return granular_poly::validate(spec, source);
+    }
     if spec.granular.is_some() {
         // counted and admitted before the table is expanded into one body per cell
         granular::validate(spec, source)?;

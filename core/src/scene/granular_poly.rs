@@ -1,0 +1,265 @@
+//! The seed paper's granular material with polyhedral grains (`[granular_poly]`, issue 17): N
+//! seeded, non-overlapping random convex polyhedra in a cube of matrix
+//! ([`crate::grain_geometry`]), fragmented and meshed with tetrahedra by gmsh (cached by the
+//! generated script, [`crate::gmsh`]), the matrix cut into substructures by the graph
+//! partitioner. The table expands into mesh bodies (`matrix`, `grain1` … `grainN`), a contact
+//! interface with Coulomb friction between every grain and the matrix (zero initial gap: the
+//! fragmented surfaces are conforming), and the loading of SCENES.md `granular`: the top face
+//! pushed along −z at V₀ with a (1 − cos) ramp, the bottom face clamped, the lateral faces free.
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{LopinError, Result};
+use crate::grain_geometry::{place_grains, GrainLayout};
+use crate::scene::spec::{
+    BoundarySpec, ComponentSpec, InterfaceKind, InterfaceSpec, MeshBodySpec, SceneSpec,
+};
+
+/// The `[granular_poly]` table: the generator's parameters.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GranularPolySpec {
+    /// Side L of the cube (m); its lower corner is the origin.
+    pub side: f64,
+    /// Number of grains.
+    pub grains: usize,
+    /// Smallest and largest circumscribed radius of a grain (m).
+    #[serde(deserialize_with = "crate::scene::exact::exactly")]
+    pub radius: [f64; 2],
+    /// Points drawn on a grain's sphere, whose convex hull is the grain (at least 6).
+    #[serde(default = "default_vertices")]
+    pub vertices: usize,
+    /// Smallest distance between two grains' circumscribed spheres, and from a sphere to the
+    /// cube's faces (m).
+    pub gap: f64,
+    /// Seed of the grain shapes and placement (the same seed always gives the same sample).
+    #[serde(default = "default_seed")]
+    pub seed: u64,
+    /// Target tetrahedron size (m).
+    pub mesh_size: f64,
+    /// Substructures the matrix is cut into by the graph partitioner (each grain is one).
+    #[serde(default = "default_one")]
+    pub matrix_substructures: usize,
+    /// Material of the matrix (a `[[material]]` name).
+    pub matrix: String,
+    /// Material of the grains (a `[[material]]` name).
+    pub grain: String,
+    /// Friction coefficient f of the grain/matrix contacts.
+    #[serde(default = "default_friction")]
+    pub friction: f64,
+    /// Velocity V₀ (m/s) imposed along −z on the top face.
+    #[serde(default = "default_velocity")]
+    pub velocity: f64,
+    /// Duration of the (1 − cos) ramp of V₀, in time steps.
+    #[serde(default = "default_ramp_steps")]
+    pub ramp_steps: usize,
+}
+
+fn default_vertices() -> usize {
+    12
+}
+
+fn default_seed() -> u64 {
+    1
+}
+
+fn default_one() -> usize {
+    1
+}
+
+fn default_friction() -> f64 {
+    0.3
+}
+
+fn default_velocity() -> f64 {
+    10.0
+}
+
+fn default_ramp_steps() -> usize {
+    10
+}
+
+impl GranularPolySpec {
+    /// The grain layout the table describes.
+    pub fn layout(&self) -> GrainLayout {
+        GrainLayout {
+            side: self.side,
+            grains: self.grains,
+            radius: self.radius,
+            vertices: self.vertices,
+            gap: self.gap,
+            seed: self.seed,
+        }
+    }
+
+    /// The gmsh script of the sample (the grains placed from the seed), or the reason the
+    /// grains cannot be placed.
+    pub fn script(&self) -> std::result::Result<String, String> {
+        let layout = self.layout();
+        let grains = place_grains(&layout)?;
+        Ok(crate::grain_geometry::geo_script(
+            &layout,
+            &grains,
+            self.mesh_size,
+        ))
+    }
+}
+
+/// Checks the `[granular_poly]` table of `spec` without meshing (errors name `source`, the
+/// field and the reason): no listed bodies, interfaces or boundaries, the materials, positive
+/// sizes, and a layout whose grains can be placed.
+pub fn validate(spec: &SceneSpec, source: &str) -> Result<()> {
+    let Some(g) = &spec.granular_poly else {
+        return Ok(());
+    };
+    let err = |field: &str, reason: String| {
+        Err(LopinError::scene(
+            source,
+            format!("granular_poly.{field}"),
+            reason,
+        ))
+    };
+    for (len, field) in [
+        (spec.bodies.len(), "body"),
+        (spec.mesh_bodies.len(), "mesh_body"),
+        (spec.interfaces.len(), "interface"),
+        (spec.boundaries.len(), "boundary"),
+    ] {
+        if len > 0 {
+            return Err(LopinError::scene(
+                source,
+                field,
+                format!(
+                    "a scene with a [granular_poly] table generates its bodies, interfaces and \
+                     boundaries: remove the {len} [[{field}]] entr{}",
+                    if len == 1 { "y" } else { "ies" }
+                ),
+            ));
+        }
+    }
+    if spec.granular.is_some() {
+        return err(
+            "side",
+            "a scene has either a [granular] or a [granular_poly] table, not both".into(),
+        );
+    }
+    for (field, name) in [("matrix", &g.matrix), ("grain", &g.grain)] {
+        if !spec.materials.iter().any(|m| &m.name == name) {
+            return err(field, format!("no material named `{name}`"));
+        }
+    }
+    let positive = |x: f64| x.is_finite() && x > 0.0;
+    if !positive(g.mesh_size) || g.mesh_size >= g.side {
+        return err(
+            "mesh_size",
+            format!(
+                "must be positive and smaller than the cube side {}, got {}",
+                g.side, g.mesh_size
+            ),
+        );
+    }
+    if !(g.friction.is_finite() && g.friction >= 0.0) {
+        return err(
+            "friction",
+            format!("must be finite and ≥ 0, got {}", g.friction),
+        );
+    }
+    if !g.velocity.is_finite() {
+        return err("velocity", format!("must be finite, got {}", g.velocity));
+    }
+    if g.matrix_substructures == 0 {
+        return err("matrix_substructures", "must be at least 1".into());
+    }
+    if g.matrix_substructures > 1 && !cfg!(feature = "partition") {
+        return err(
+            "matrix_substructures",
+            "this build of Lopin has no graph partitioner (the web build)".into(),
+        );
+    }
+    if let Err(reason) = place_grains(&g.layout()) {
+        return err("grains", reason);
+    }
+    // counted (from the mesh size) and admitted before anything is meshed
+    crate::scene::admission::admit(
+        spec,
+        source,
+        crate::scene::admission::SolveShape::smallest(),
+    )?;
+    Ok(())
+}
+
+/// Expands the `[granular_poly]` table into the scene it describes: meshes the sample with gmsh
+/// (or takes it from the cache) and lists the mesh bodies, contacts and boundaries.
+pub fn expand(spec: &SceneSpec, source: &str) -> Result<SceneSpec> {
+    let Some(g) = &spec.granular_poly else {
+        return Ok(spec.clone());
+    };
+    validate(spec, source)?;
+    let mesh = mesh_file(g, &spec.name)
+        .map_err(|reason| LopinError::scene(source, "granular_poly", reason))?;
+    let body = |name: String, material: &str, substructures: usize| MeshBodySpec {
+        name,
+        material: material.to_string(),
+        mesh: mesh.clone(),
+        volume: None,
+        velocity: [0.0; 3],
+        substructures: (substructures > 1).then_some(substructures),
+    };
+    let mut mesh_bodies = vec![body("matrix".into(), &g.matrix, g.matrix_substructures)];
+    mesh_bodies.extend((1..=g.grains).map(|k| body(format!("grain{k}"), &g.grain, 1)));
+    let interfaces = (1..=g.grains)
+        .map(|k| InterfaceSpec {
+            bodies: [format!("grain{k}"), "matrix".into()],
+            kind: InterfaceKind::Contact,
+            friction: Some(g.friction),
+            gap: Some(0.0),
+            search: None,
+        })
+        .collect();
+    let ramp_time = g.ramp_steps as f64 * spec.time.dt;
+    let boundaries = vec![
+        BoundarySpec {
+            body: "matrix".into(),
+            face: String::new(),
+            surface: Some("top".into()),
+            clamped: false,
+            x: None,
+            y: None,
+            z: Some(ComponentSpec::velocity(-g.velocity, ramp_time)),
+        },
+        BoundarySpec {
+            body: "matrix".into(),
+            face: String::new(),
+            surface: Some("bottom".into()),
+            clamped: true,
+            x: None,
+            y: None,
+            z: None,
+        },
+    ];
+    Ok(SceneSpec {
+        granular_poly: None,
+        mesh_bodies,
+        interfaces,
+        boundaries,
+        ..spec.clone()
+    })
+}
+
+/// The MSH file of the sample: meshed by gmsh now or taken from the cache.
+#[cfg(feature = "msh")]
+fn mesh_file(g: &GranularPolySpec, name: &str) -> std::result::Result<String, String> {
+    let script = g.script()?;
+    crate::gmsh::mesh_script(name, &script)
+        .map(|p| p.display().to_string())
+        .map_err(|e| e.to_string())
+}
+
+#[cfg(not(feature = "msh"))]
+fn mesh_file(_: &GranularPolySpec, _: &str) -> std::result::Result<String, String> {
+    Err(
+        "this build of Lopin meshes no polyhedral grains (the web build): run the scene with \
+         the `lopin` command line"
+            .into(),
+    )
+}
