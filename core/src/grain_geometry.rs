@@ -3,19 +3,24 @@
 //! `.geo` script that builds the cube and the grains, fragments them so that every grain shares
 //! conforming surfaces with the matrix, and names the physical groups ([`geo_script`]).
 //!
-//! A grain is the convex hull of points drawn on a sphere with a minimum angular separation (no
-//! sliver faces), scaled by a random factor in [0.75, 1] along each axis and randomly rotated:
-//! its circumscribed sphere is the drawn one. Grains are placed by random sequential addition:
-//! a sphere closer than `gap` to an earlier one or to the cube's faces is redrawn.
+//! A grain is the convex hull of points drawn on a sphere at least 0.7 √(4π/n) apart (no tiny
+//! edges), scaled by a random factor in [0.75, 1] along each axis and randomly rotated; shapes
+//! with two nearly coplanar adjacent faces are redrawn (Gmsh would leave a flat tetrahedron
+//! across their edge). Grains are placed by random sequential addition of their circumscribed
+//! spheres, `gap` apart and `gap` away from the cube's faces.
 //!
 //! Physical groups of the script: volumes `matrix` (tag 1) and `grain1` … `grainN` (tags 2 …
 //! N + 1, in placement order); surfaces `x-`, `x+`, `y-`, `y+`, `bottom` (z = 0) and `top`
-//! (z = L) (tags 1 … 6).
+//! (z = L) (tags 1 … 6). Meshed with `gmsh -3 sample.geo -format msh41 -o sample.msh` (Gmsh
+//! 4.8.4): 10 grains of radius 0.12 L to 0.2 L (gap 0.04 L) give about 5,700 nodes at a mesh size
+//! of 0.06 L and 8,600 at 0.05 L; 50 grains of radius 0.08 L to 0.14 L (gap 0.02 L) about
+//! 323,000 nodes at 0.0136 L (53 s).
 
 use std::collections::HashMap;
 use std::f64::consts::PI;
+use std::fmt::Write;
 
-use crate::mesh::{cross, dot, norm, sub, Vec3};
+use crate::mesh::{bounding_box_of, cross, dot, norm, sub, Vec3};
 use crate::splitmix::SplitMix64;
 
 /// Parameters of a polyhedral granular sample.
@@ -44,45 +49,36 @@ pub struct Polyhedron {
     pub centre: Vec3,
     /// Radius of the circumscribed sphere (every vertex lies within it).
     pub radius: f64,
-    /// Vertices (every one is a corner of the hull).
+    /// Vertices, every one a corner of the hull.
     pub vertices: Vec<Vec3>,
-    /// Triangular faces, vertex indices counter-clockwise seen from outside.
+    /// Triangular faces: vertex indices counter-clockwise seen from outside.
     pub faces: Vec<[usize; 3]>,
 }
 
 impl Polyhedron {
-    /// Volume by the divergence theorem, V = Σ_faces a · (b × c) / 6 over the faces (a, b, c);
+    /// Volume by the divergence theorem, V = Σ a · (b × c) / 6 over the faces (a, b, c);
     /// positive for outward-oriented faces.
     pub fn volume(&self) -> f64 {
-        let v = &self.vertices;
-        self.faces
+        let v = |i: usize| self.vertices[i];
+        let six_v: f64 = self
+            .faces
             .iter()
-            .map(|f| triple(v[f[0]], v[f[1]], v[f[2]]))
-            .sum::<f64>()
-            / 6.0
+            .map(|f| dot(v(f[0]), cross(v(f[1]), v(f[2]))))
+            .sum();
+        six_v / 6.0
     }
 
     /// Lower and upper corners of the axis-aligned bounding box.
     pub fn bounding_box(&self) -> (Vec3, Vec3) {
-        let mut lo = [f64::INFINITY; 3];
-        let mut hi = [f64::NEG_INFINITY; 3];
-        for p in &self.vertices {
-            for a in 0..3 {
-                lo[a] = lo[a].min(p[a]);
-                hi[a] = hi[a].max(p[a]);
-            }
-        }
-        (lo, hi)
+        bounding_box_of(&self.vertices)
     }
 
-    /// Whether `p` lies inside or on the boundary (within 10⁻⁹ of the radius of every face's
-    /// plane).
+    /// Whether `p` lies inside or on the boundary (within 10⁻⁹ radius of a face's plane).
     pub fn contains(&self, p: Vec3) -> bool {
-        let tol = 1e-9 * self.radius;
         self.faces.iter().all(|f| {
             let a = self.vertices[f[0]];
             let n = cross(sub(self.vertices[f[1]], a), sub(self.vertices[f[2]], a));
-            dot(n, sub(p, a)) <= tol * norm(n)
+            dot(n, sub(p, a)) <= 1e-9 * self.radius * norm(n)
         })
     }
 }
@@ -95,26 +91,25 @@ const TRIES_PER_GRAIN: usize = 10_000;
 /// (non-positive side, radius not positive or radius[0] > radius[1], vertices < 6, no grains,
 /// gap not positive, or 2 (radius[1] + gap) > side).
 ///
-/// Each try draws a radius r uniformly in `radius` and a centre uniformly in [r + gap, L − r −
-/// gap]³, and is rejected if its sphere comes within `gap` of an earlier grain's, or if one
-/// grain's bounding box would hold another one entirely (the script selects grains by bounding
-/// box).
+/// Each try draws a radius r uniformly in `radius` and a centre uniformly in
+/// [r + gap, L − r − gap]³; it fails if its sphere comes within `gap` of an earlier grain's, or
+/// if one grain's bounding box would hold another grain entirely (the script selects grains by
+/// bounding box).
 pub fn place_grains(layout: &GrainLayout) -> Result<Vec<Polyhedron>, String> {
-    let GrainLayout {
-        side,
-        grains: n,
-        radius: [r0, r1],
-        vertices,
-        gap,
-        seed,
-    } = *layout;
+    let (side, n, [r0, r1], vertices, gap) = (
+        layout.side,
+        layout.grains,
+        layout.radius,
+        layout.vertices,
+        layout.gap,
+    );
     let positive = |x: f64| x.is_finite() && x > 0.0;
     if !positive(side) {
         return Err(format!("the side of the cube must be positive, got {side}"));
     }
     if !positive(r0) || !positive(r1) || r0 > r1 {
         return Err(format!(
-            "the grain radii must be positive and in increasing order, got [{r0}, {r1}]"
+            "the grain radii must be positive and increasing, got [{r0}, {r1}]"
         ));
     }
     if vertices < 6 {
@@ -130,11 +125,11 @@ pub fn place_grains(layout: &GrainLayout) -> Result<Vec<Polyhedron>, String> {
     }
     if 2.0 * (r1 + gap) > side {
         return Err(format!(
-            "a grain of radius {r1} with gap {gap} does not fit in a cube of side {side}"
+            "a grain of radius {r1} with gap {gap} does not fit in side {side}"
         ));
     }
     let eps = selection_eps(layout);
-    let mut rng = SplitMix64(seed);
+    let mut rng = SplitMix64(layout.seed);
     let mut grains: Vec<Polyhedron> = Vec::with_capacity(n);
     let mut tries = 0;
     while grains.len() < n && tries < TRIES_PER_GRAIN * n {
@@ -148,137 +143,123 @@ pub fn place_grains(layout: &GrainLayout) -> Result<Vec<Polyhedron>, String> {
         {
             continue;
         }
-        let Some(grain) = random_polyhedron(&mut rng, centre, r, vertices) else {
+        let Some(new) = random_polyhedron(&mut rng, centre, r, vertices) else {
             continue;
         };
         if grains
             .iter()
-            .all(|g| !box_holds(g, &grain, eps) && !box_holds(&grain, g, eps))
+            .all(|g| !box_holds(g, &new, eps) && !box_holds(&new, g, eps))
         {
-            grains.push(grain);
+            grains.push(new);
         }
     }
     if grains.len() < n {
+        let placed = grains.len();
         return Err(format!(
-            "placed only {} of {n} grains in {tries} tries: use fewer or smaller grains, a \
-             smaller gap or a larger cube",
-            grains.len()
+            "placed only {placed} of {n} grains in {tries} tries: use fewer or smaller grains, \
+             a smaller gap or a larger cube"
         ));
     }
     Ok(grains)
 }
 
 /// The gmsh .geo script (OpenCASCADE kernel) of the sample, meshed with tetrahedra of size about
-/// `mesh_size`: the cube is volume 1, grain k volume k + 1 built from points, lines (one per
-/// shared edge), curve loops, plane surfaces and a surface loop (tags from 1000 up, clear of
-/// the box's), then all are fragmented and the physical groups selected by bounding box.
+/// `mesh_size`: the cube is volume 1, grain k volume k + 1, built from points, lines (one per
+/// edge), curve loops, plane surfaces and a surface loop (tags from 1000 up and `newll`,
+/// `newsl`: clear of the box's and of those OpenCASCADE binds itself); all are fragmented, then
+/// the physical groups are selected by bounding box. The 3-D algorithm is Delaunay (1), whose
+/// mesh is the same at every run; HXT (10) is faster with better tetrahedra, but not repeatable.
 pub fn geo_script(layout: &GrainLayout, grains: &[Polyhedron], mesh_size: f64) -> String {
-    let l = layout.side;
-    let mut s = String::new();
-    let mut w = |line: String| {
-        s.push_str(&line);
-        s.push('\n');
-    };
-    w(format!(
-        "// Generated by Lopin (grain_geometry): side = {l}, grains = {}, radius = [{}, {}], \
-         vertices = {}, gap = {}, seed = {}, mesh_size = {mesh_size}",
-        layout.grains, layout.radius[0], layout.radius[1], layout.vertices, layout.gap, layout.seed
-    ));
-    w("SetFactory(\"OpenCASCADE\");".into());
-    w(format!("Mesh.CharacteristicLengthMax = {mesh_size};"));
-    w(format!(
-        "Mesh.CharacteristicLengthMin = {};",
+    let GrainLayout {
+        side: l,
+        grains: n,
+        radius: [r0, r1],
+        ..
+    } = *layout;
+    // writing to a String cannot fail: the results of write! are dropped
+    let mut s = format!(
+        "// Generated by Lopin (grain_geometry): side = {l}, grains = {n}, radius = [{r0}, {r1}], \
+         vertices = {}, gap = {}, seed = {}, mesh_size = {mesh_size}\n\
+         SetFactory(\"OpenCASCADE\");\n\
+         Mesh.CharacteristicLengthMax = {mesh_size};\n\
+         Mesh.CharacteristicLengthMin = {};\n\
+         Mesh.ElementOrder = 1;\nMesh.Algorithm3D = 1;\nMesh.Optimize = 1;\n\
+         Box(1) = {{0, 0, 0, {l}, {l}, {l}}};\n",
+        layout.vertices,
+        layout.gap,
+        layout.seed,
         mesh_size / 4.0
-    ));
-    w("Mesh.ElementOrder = 1;\nMesh.Algorithm3D = 1;\nMesh.Optimize = 1;".into());
-    w(format!("Box(1) = {{0, 0, 0, {l}, {l}, {l}}};"));
-    let (mut point, mut line, mut surface) = (1000usize, 1000i64, 1000i64);
+    );
+    let (mut point, mut line, mut surface) = (1000, 1000, 1000);
     for (k, g) in grains.iter().enumerate() {
-        w(format!("// grain {}", k + 1));
-        let p0 = point;
+        let _ = writeln!(s, "// grain {}", k + 1);
+        let first = point;
         for v in &g.vertices {
-            w(format!(
-                "Point({point}) = {{{}, {}, {}}};",
-                v[0], v[1], v[2]
-            ));
+            let _ = writeln!(s, "Point({point}) = {{{}, {}, {}}};", v[0], v[1], v[2]);
             point += 1;
         }
         let mut lines: HashMap<(usize, usize), i64> = HashMap::new();
         let mut surfaces = Vec::with_capacity(g.faces.len());
         for f in &g.faces {
-            let mut loop_ = Vec::with_capacity(3);
+            let mut curves = Vec::with_capacity(3);
             for (a, b) in [(f[0], f[1]), (f[1], f[2]), (f[2], f[0])] {
+                // the neighbour face runs along an edge the other way: its line, reversed
                 if let Some(&t) = lines.get(&(b, a)) {
-                    loop_.push(-t);
+                    curves.push(-t);
                 } else {
-                    w(format!("Line({line}) = {{{}, {}}};", p0 + a, p0 + b));
+                    let _ = writeln!(s, "Line({line}) = {{{}, {}}};", first + a, first + b);
                     lines.insert((a, b), line);
-                    loop_.push(line);
+                    curves.push(line);
                     line += 1;
                 }
             }
-            w(format!(
-                "ll = newll; Curve Loop(ll) = {{{}}};",
-                join(&loop_)
-            ));
-            w(format!("Plane Surface({surface}) = {{ll}};"));
+            let _ = writeln!(s, "ll = newll; Curve Loop(ll) = {{{}}};", join(&curves));
+            let _ = writeln!(s, "Plane Surface({surface}) = {{ll}};");
             surfaces.push(surface);
             surface += 1;
         }
-        w(format!(
-            "sl = newsl; Surface Loop(sl) = {{{}}};",
-            join(&surfaces)
-        ));
-        w(format!("Volume({}) = {{sl}};", k + 2));
+        let _ = writeln!(s, "sl = newsl; Surface Loop(sl) = {{{}}};", join(&surfaces));
+        let _ = writeln!(s, "Volume({}) = {{sl}};", k + 2);
     }
     if !grains.is_empty() {
-        w(format!(
-            "BooleanFragments{{ Volume{{1}}; Delete; }}{{ Volume{{2:{}}}; Delete; }}",
-            grains.len() + 1
-        ));
+        let last = grains.len() + 1;
+        let _ = writeln!(
+            s,
+            "BooleanFragments{{ Volume{{1}}; Delete; }}{{ Volume{{2:{last}}}; Delete; }}"
+        );
     }
-    let eps = selection_eps(layout);
-    w(format!("eps = {eps};"));
-    let in_box = |kind: &str, lo: Vec3, hi: Vec3| {
+    let in_box = |lo: Vec3, hi: Vec3| {
+        let [a, b, c, d, e, f] = [lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]];
         format!(
-            "{kind} In BoundingBox{{{} - eps, {} - eps, {} - eps, {} + eps, {} + eps, {} + eps}}",
-            lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]
+            "In BoundingBox{{{a} - eps, {b} - eps, {c} - eps, {d} + eps, {e} + eps, {f} + eps}}"
         )
     };
-    w(format!(
-        "matrix() = {};",
-        in_box("Volume", [0.0; 3], [l; 3])
-    ));
-    for (k, g) in grains.iter().enumerate() {
+    let _ = writeln!(
+        s,
+        "eps = {};\nmatrix() = Volume {};",
+        selection_eps(layout),
+        in_box([0.0; 3], [l; 3])
+    );
+    for (k, g) in (1..).zip(grains) {
         let (lo, hi) = g.bounding_box();
-        w(format!("grain{}() = {};", k + 1, in_box("Volume", lo, hi)));
-        w(format!(
-            "Physical Volume(\"grain{}\", {}) = grain{}();",
-            k + 1,
-            k + 2,
+        let _ = writeln!(
+            s,
+            "grain{k}() = Volume {};\nPhysical Volume(\"grain{k}\", {}) = grain{k}();\n\
+             matrix() -= grain{k}();",
+            in_box(lo, hi),
             k + 1
-        ));
-        w(format!("matrix() -= grain{}();", k + 1));
+        );
     }
-    w("Physical Volume(\"matrix\", 1) = matrix();".into());
-    for (t, (name, axis, at)) in [
-        ("x-", 0, 0.0),
-        ("x+", 0, l),
-        ("y-", 1, 0.0),
-        ("y+", 1, l),
-        ("bottom", 2, 0.0),
-        ("top", 2, l),
-    ]
-    .into_iter()
-    .enumerate()
-    {
+    s += "Physical Volume(\"matrix\", 1) = matrix();\n";
+    for (tag, name) in (1..).zip(["x-", "x+", "y-", "y+", "bottom", "top"]) {
         let (mut lo, mut hi) = ([0.0; 3], [l; 3]);
-        (lo[axis], hi[axis]) = (at, at);
-        w(format!(
-            "Physical Surface(\"{name}\", {}) = {};",
-            t + 1,
-            in_box("Surface", lo, hi)
-        ));
+        let axis = (tag - 1) / 2;
+        (lo[axis], hi[axis]) = if tag % 2 == 1 { (0.0, 0.0) } else { (l, l) };
+        let _ = writeln!(
+            s,
+            "Physical Surface(\"{name}\", {tag}) = Surface {};",
+            in_box(lo, hi)
+        );
     }
     s
 }
@@ -292,32 +273,25 @@ fn selection_eps(layout: &GrainLayout) -> f64 {
 /// Whether the bounding box of `a`, grown by `eps`, holds every vertex of `b`.
 fn box_holds(a: &Polyhedron, b: &Polyhedron, eps: f64) -> bool {
     let (lo, hi) = a.bounding_box();
-    b.vertices
-        .iter()
-        .all(|p| (0..3).all(|i| p[i] >= lo[i] - eps && p[i] <= hi[i] + eps))
+    let inside = |p: &Vec3| (0..3).all(|i| p[i] >= lo[i] - eps && p[i] <= hi[i] + eps);
+    b.vertices.iter().all(inside)
 }
 
-/// Attempts at a polyhedron with folds wide enough before a placement try fails.
+/// Shape attempts per placement try.
 const SHAPE_ATTEMPTS: i32 = 64;
 
-/// Smallest fold (angle between the normals of two adjacent faces) asked of a grain, as a
-/// fraction of the mean spacing √(4π/n) of its n points (8° for 12 points): two nearly coplanar
-/// faces would leave a flat tetrahedron across their common edge.
+/// Smallest fold asked of a grain (angle between the normals of two adjacent faces), as a
+/// fraction of the mean angular spacing √(4π/n) of its n points: 8° for 12 points.
 const MIN_FOLD: f64 = 0.14;
 
-/// A random convex polyhedron in the sphere (`centre`, `radius`) with `n` vertices, its folds at
-/// least [`MIN_FOLD`] √(4π/n) (a bound relaxed by 20 % after every 16 failed attempts); None (a
-/// failed try) after [`SHAPE_ATTEMPTS`] failed attempts.
-fn random_polyhedron(
-    rng: &mut SplitMix64,
-    centre: Vec3,
-    radius: f64,
-    n: usize,
-) -> Option<Polyhedron> {
+/// A random convex polyhedron in the sphere (`centre`, `r`) with `n` vertices and folds of
+/// at least [`MIN_FOLD`] √(4π/n) (a bound relaxed by 20 % after every 16 failed attempts);
+/// None, a failed placement try, after [`SHAPE_ATTEMPTS`] failed attempts.
+fn random_polyhedron(rng: &mut SplitMix64, centre: Vec3, r: f64, n: usize) -> Option<Polyhedron> {
     let spacing = (4.0 * PI / n as f64).sqrt();
     for attempt in 0..SHAPE_ATTEMPTS {
-        let points = random_points(rng, centre, radius, n, spacing);
-        let Some(faces) = convex_hull(&points, 1e-7 * radius) else {
+        let points = random_points(rng, centre, r, n, spacing);
+        let Some(faces) = convex_hull(&points, 1e-7 * r) else {
             continue;
         };
         if smallest_fold(&points, &faces) < MIN_FOLD * spacing * 0.8f64.powi(attempt / 16) {
@@ -333,6 +307,7 @@ fn random_polyhedron(
             }
         }
         let faces = faces.iter().map(|f| f.map(|i| index[i])).collect();
+        let radius = r;
         return Some(Polyhedron {
             centre,
             radius,
@@ -343,16 +318,10 @@ fn random_polyhedron(
     None
 }
 
-/// `n` points on the sphere (`centre`, `radius`) in directions at least 0.7 `spacing` apart (a
-/// bound relaxed by 10 % after every 1000 rejections, so that no edge is tiny), scaled by a
-/// random factor in [0.75, 1] along each axis, then turned by a uniform random rotation.
-fn random_points(
-    rng: &mut SplitMix64,
-    centre: Vec3,
-    radius: f64,
-    n: usize,
-    spacing: f64,
-) -> Vec<Vec3> {
+/// `n` points on the sphere (`centre`, `r`) in directions at least 0.7 `spacing` apart (a
+/// bound relaxed by 10 % after every 1000 rejections), scaled by a random factor in [0.75, 1]
+/// along each axis, then turned by a uniform random rotation.
+fn random_points(rng: &mut SplitMix64, centre: Vec3, r: f64, n: usize, spacing: f64) -> Vec<Vec3> {
     let mut cos_sep = (0.7 * spacing).cos();
     let mut dirs: Vec<Vec3> = Vec::with_capacity(n);
     let mut rejected = 0;
@@ -369,8 +338,8 @@ fn random_points(
             }
         }
     }
-    let scale = [0; 3].map(|_| 0.75 + 0.25 * rng.unit());
-    // a uniform random unit quaternion (w, q) (Shoemake 1992); v ↦ v + w t + q × t, t = 2 q × v
+    let scale = [0; 3].map(|_| r * (0.75 + 0.25 * rng.unit()));
+    // a uniform random unit quaternion (w, q) (Shoemake 1992): v ↦ v + w t + q × t, t = 2 q × v
     let (u1, u2, u3) = (rng.unit(), 2.0 * PI * rng.unit(), 2.0 * PI * rng.unit());
     let w = (1.0 - u1).sqrt() * u2.sin();
     let q = [
@@ -378,58 +347,48 @@ fn random_points(
         u1.sqrt() * u3.sin(),
         u1.sqrt() * u3.cos(),
     ];
-    dirs.iter()
-        .map(|d| {
-            let v = [0, 1, 2].map(|a| radius * scale[a] * d[a]);
-            let t = cross(q, v).map(|c| 2.0 * c);
-            let qt = cross(q, t);
-            [0, 1, 2].map(|a| centre[a] + v[a] + w * t[a] + qt[a])
-        })
-        .collect()
+    let turn = |d: &Vec3| {
+        let v = [0, 1, 2].map(|a| scale[a] * d[a]);
+        let t = cross(q, v).map(|c| 2.0 * c);
+        let qt = cross(q, t);
+        [0, 1, 2].map(|a| centre[a] + v[a] + w * t[a] + qt[a])
+    };
+    dirs.iter().map(turn).collect()
 }
 
 /// The smallest angle between the normals of two faces sharing an edge.
 fn smallest_fold(p: &[Vec3], faces: &[[usize; 3]]) -> f64 {
-    let normal = |f: &[usize; 3]| {
-        let n = cross(sub(p[f[1]], p[f[0]]), sub(p[f[2]], p[f[0]]));
-        n.map(|c| c / norm(n))
-    };
-    let mut by_edge = HashMap::new();
+    let mut normals = HashMap::new();
     for f in faces {
+        let n = cross(sub(p[f[1]], p[f[0]]), sub(p[f[2]], p[f[0]]));
         for e in [(f[0], f[1]), (f[1], f[2]), (f[2], f[0])] {
-            by_edge.insert(e, normal(f));
+            normals.insert(e, n.map(|c| c / norm(n)));
         }
     }
-    let mut smallest = PI;
-    for (&(a, b), &n) in &by_edge {
-        if let Some(&m) = by_edge.get(&(b, a)) {
-            smallest = smallest.min(dot(n, m).clamp(-1.0, 1.0).acos());
-        }
-    }
-    smallest
+    let fold = |(&(a, b), &n): (&(usize, usize), &Vec3)| {
+        normals
+            .get(&(b, a))
+            .map_or(PI, |&m| dot(n, m).clamp(-1.0, 1.0).acos())
+    };
+    normals.iter().map(fold).fold(PI, f64::min)
 }
 
 /// The convex hull of points in general position by brute force (O(n⁴)): every triple with all
 /// other points strictly on one side of its plane is a face, oriented outward. None when a
 /// fourth point lies within `tol` of a face's plane, or when the faces do not close into a
-/// consistently oriented surface.
+/// consistently oriented surface (each directed edge once, and its reverse once).
 fn convex_hull(p: &[Vec3], tol: f64) -> Option<Vec<[usize; 3]>> {
     let n = p.len();
     let mut faces = Vec::new();
     for i in 0..n {
         for j in i + 1..n {
             for k in j + 1..n {
-                let nrm = cross(sub(p[j], p[i]), sub(p[k], p[i]));
-                let len = norm(nrm);
+                let normal = cross(sub(p[j], p[i]), sub(p[k], p[i]));
+                let t = tol * norm(normal);
                 let (mut above, mut below, mut on) = (false, false, false);
-                for (m, &q) in p.iter().enumerate() {
-                    if m == i || m == j || m == k {
-                        continue;
-                    }
-                    let d = dot(nrm, sub(q, p[i]));
-                    above |= d > tol * len;
-                    below |= d < -tol * len;
-                    on |= d.abs() <= tol * len;
+                for m in (0..n).filter(|&m| m != i && m != j && m != k) {
+                    let d = dot(normal, sub(p[m], p[i]));
+                    (above, below, on) = (above || d > t, below || d < -t, on || d.abs() <= t);
                 }
                 match (above, below) {
                     (true, true) => {}
@@ -440,7 +399,6 @@ fn convex_hull(p: &[Vec3], tol: f64) -> Option<Vec<[usize; 3]>> {
             }
         }
     }
-    // a closed, consistently oriented surface: each directed edge once, with its reverse
     let mut edges = HashMap::new();
     for f in &faces {
         for e in [(f[0], f[1]), (f[1], f[2]), (f[2], f[0])] {
@@ -453,16 +411,12 @@ fn convex_hull(p: &[Vec3], tol: f64) -> Option<Vec<[usize; 3]>> {
     (closed && !faces.is_empty()).then_some(faces)
 }
 
+/// Tags separated by commas.
 fn join(tags: &[i64]) -> String {
     tags.iter()
-        .map(|t| t.to_string())
+        .map(i64::to_string)
         .collect::<Vec<_>>()
         .join(", ")
-}
-
-/// a · (b × c).
-fn triple(a: Vec3, b: Vec3, c: Vec3) -> f64 {
-    dot(a, cross(b, c))
 }
 
 #[cfg(test)]
@@ -471,24 +425,25 @@ mod tests {
 
     /// The `granular-poly` layout.
     fn small() -> GrainLayout {
+        let radius = [0.012, 0.02];
         GrainLayout {
             side: 0.1,
             grains: 10,
-            radius: [0.012, 0.02],
+            radius,
             vertices: 12,
             gap: 0.004,
             seed: 1,
         }
     }
 
-    /// Undirected edges of a polyhedron.
+    /// The number of undirected edges.
     fn edges(g: &Polyhedron) -> usize {
-        let mut e: Vec<(usize, usize)> = g
+        let mut e: Vec<_> = g
             .faces
             .iter()
             .flat_map(|f| [(f[0], f[1]), (f[1], f[2]), (f[2], f[0])])
-            .map(|(a, b)| (a.min(b), a.max(b)))
             .collect();
+        e.iter_mut().for_each(|e| *e = (e.0.min(e.1), e.0.max(e.1)));
         e.sort_unstable();
         e.dedup();
         e.len()
@@ -497,11 +452,19 @@ mod tests {
     #[test]
     fn the_same_seed_gives_the_same_grains_and_another_seed_others() {
         let a = place_grains(&small()).expect("places");
-        let b = place_grains(&small()).expect("places");
-        let c = place_grains(&GrainLayout { seed: 2, ..small() }).expect("places");
-        assert_eq!(a, b);
-        assert_ne!(a, c);
         assert_eq!(a.len(), 10);
+        assert_eq!(a, place_grains(&small()).expect("places"));
+        let other = place_grains(&GrainLayout { seed: 2, ..small() }).expect("places");
+        assert_ne!(a, other);
+    }
+
+    /// 6 V by the fan of tetrahedra from the centre.
+    fn fan_volume6(g: &Polyhedron) -> f64 {
+        let p = |i: usize| sub(g.vertices[i], g.centre);
+        g.faces
+            .iter()
+            .map(|t| dot(p(t[0]), cross(p(t[1]), p(t[2]))))
+            .sum()
     }
 
     #[test]
@@ -513,42 +476,33 @@ mod tests {
                 ..small()
             };
             for g in place_grains(&layout).expect("places") {
-                let (v, e, f) = (g.vertices.len(), edges(&g), g.faces.len());
+                let (v, e, f, c, r) = (
+                    g.vertices.len(),
+                    edges(&g),
+                    g.faces.len(),
+                    g.centre,
+                    g.radius,
+                );
                 assert_eq!(v, vertices, "every drawn point is a hull vertex");
                 assert_eq!(v + f, e + 2, "Euler: V - E + F = 2");
                 assert!(g.vertices.iter().all(|&p| g.contains(p)), "convex");
-                assert!(g.contains(g.centre));
-                let c = g.centre;
-                let fan: f64 = g
-                    .faces
-                    .iter()
-                    .map(|t| {
-                        triple(
-                            sub(g.vertices[t[0]], c),
-                            sub(g.vertices[t[1]], c),
-                            sub(g.vertices[t[2]], c),
-                        )
-                    })
-                    .sum::<f64>()
-                    / 6.0;
-                let volume = g.volume();
-                assert!(volume > 0.0, "outward faces");
+                let (volume, fan) = (g.volume(), fan_volume6(&g) / 6.0);
+                assert!(
+                    volume > 0.05 * r.powi(3) && volume < 4.2 * r.powi(3),
+                    "{volume}"
+                );
                 assert!(
                     (volume - fan).abs() < 1e-9 * volume,
                     "{volume} vs fan {fan}"
                 );
-                // a scaled sphere: the volume lies between those of the inscribed shapes
-                let ball = 4.0 / 3.0 * PI * g.radius.powi(3);
+                let d: Vec<f64> = g.vertices.iter().map(|&q| norm(sub(q, c)) / r).collect();
                 assert!(
-                    volume < ball && volume > 0.05 * ball,
-                    "volume {volume}, ball {ball}"
+                    d.iter().all(|d| (0.75 - 1e-12..=1.0 + 1e-12).contains(d)),
+                    "{d:?}"
                 );
-                for p in &g.vertices {
-                    let d = norm(sub(*p, c));
-                    assert!(d <= g.radius * (1.0 + 1e-12) && d >= 0.75 * g.radius * (1.0 - 1e-12));
-                }
-                let outside = [c[0] + 1.01 * g.radius, c[1], c[2]];
-                assert!(!g.contains(outside));
+                assert!(g.contains(c) && !g.contains([c[0] + 1.01 * r, c[1], c[2]]));
+                let fold = smallest_fold(&g.vertices, &g.faces) / (4.0 * PI / v as f64).sqrt();
+                assert!(fold > 0.5 * MIN_FOLD, "fold {fold}");
             }
         }
     }
@@ -558,14 +512,13 @@ mod tests {
         for seed in 1..6 {
             let layout = GrainLayout { seed, ..small() };
             let grains = place_grains(&layout).expect("places");
-            let eps = selection_eps(&layout);
+            let (gap, side, eps) = (layout.gap, layout.side, selection_eps(&layout));
             for (i, a) in grains.iter().enumerate() {
                 assert!((layout.radius[0]..=layout.radius[1]).contains(&a.radius));
-                for x in a.centre {
-                    assert!(x >= a.radius + layout.gap && x <= layout.side - a.radius - layout.gap);
-                }
+                let inner = a.radius + gap..=side - a.radius - gap;
+                assert!(a.centre.iter().all(|x| inner.contains(x)), "{:?}", a.centre);
                 for b in &grains[i + 1..] {
-                    assert!(norm(sub(a.centre, b.centre)) >= a.radius + b.radius + layout.gap);
+                    assert!(norm(sub(a.centre, b.centre)) >= a.radius + b.radius + gap);
                     assert!(!box_holds(a, b, eps) && !box_holds(b, a, eps));
                 }
             }
@@ -574,65 +527,20 @@ mod tests {
 
     #[test]
     fn invalid_parameters_are_refused_with_a_reason() {
-        let cases = [
-            (
-                GrainLayout {
-                    side: 0.0,
-                    ..small()
-                },
-                "side",
-            ),
-            (
-                GrainLayout {
-                    side: f64::NAN,
-                    ..small()
-                },
-                "side",
-            ),
-            (
-                GrainLayout {
-                    radius: [0.02, 0.012],
-                    ..small()
-                },
-                "radii",
-            ),
-            (
-                GrainLayout {
-                    radius: [0.0, 0.012],
-                    ..small()
-                },
-                "radii",
-            ),
-            (
-                GrainLayout {
-                    vertices: 5,
-                    ..small()
-                },
-                "vertices",
-            ),
-            (
-                GrainLayout {
-                    grains: 0,
-                    ..small()
-                },
-                "grain",
-            ),
-            (
-                GrainLayout {
-                    gap: -0.001,
-                    ..small()
-                },
-                "gap",
-            ),
-            (
-                GrainLayout {
-                    radius: [0.02, 0.05],
-                    ..small()
-                },
-                "does not fit",
-            ),
+        type Change = fn(&mut GrainLayout);
+        let cases: [(Change, &str); 8] = [
+            (|l| l.side = 0.0, "side"),
+            (|l| l.side = f64::NAN, "side"),
+            (|l| l.radius = [0.02, 0.012], "radii"),
+            (|l| l.radius = [0.0, 0.012], "radii"),
+            (|l| l.vertices = 5, "vertices"),
+            (|l| l.grains = 0, "grain"),
+            (|l| l.gap = -0.001, "gap"),
+            (|l| l.radius = [0.02, 0.05], "does not fit"),
         ];
-        for (layout, word) in cases {
+        for (change, word) in cases {
+            let mut layout = small();
+            change(&mut layout);
             let err = place_grains(&layout).expect_err("invalid");
             assert!(err.contains(word), "{err}");
         }
@@ -644,9 +552,8 @@ mod tests {
             side: 1.0,
             grains: 100,
             radius: [0.3, 0.3],
-            vertices: 12,
             gap: 0.01,
-            seed: 1,
+            ..small()
         };
         let err = place_grains(&layout).expect_err("impossible");
         assert!(
@@ -658,44 +565,24 @@ mod tests {
 
     #[test]
     fn the_script_builds_every_grain_once_and_names_every_group() {
-        let layout = small();
-        let grains = place_grains(&layout).expect("places");
-        let geo = geo_script(&layout, &grains, 0.01);
+        let grains = place_grains(&small()).expect("places");
+        let geo = geo_script(&small(), &grains, 0.0055);
         assert!(geo.starts_with("// Generated by Lopin") && geo.contains("seed = 1"));
         assert!(geo.contains("SetFactory(\"OpenCASCADE\");\n"));
         assert!(geo.contains("Box(1) = {0, 0, 0, 0.1, 0.1, 0.1};"));
         assert!(geo.contains("BooleanFragments{ Volume{1}; Delete; }{ Volume{2:11}; Delete; }"));
         let count = |prefix: &str| geo.lines().filter(|l| l.starts_with(prefix)).count();
-        assert_eq!(
-            count("Point("),
-            grains.iter().map(|g| g.vertices.len()).sum::<usize>()
-        );
-        assert_eq!(
-            count("Line("),
-            grains.iter().map(edges).sum::<usize>(),
-            "one line per edge"
-        );
-        assert_eq!(
-            count("Plane Surface("),
-            grains.iter().map(|g| g.faces.len()).sum::<usize>()
-        );
+        let total = |f: fn(&Polyhedron) -> usize| grains.iter().map(f).sum::<usize>();
+        assert_eq!(count("Point("), total(|g| g.vertices.len()));
+        assert_eq!(count("Line("), total(edges), "one line per edge");
+        assert_eq!(count("Plane Surface("), total(|g| g.faces.len()));
         assert_eq!(count("Volume("), 10);
         for k in 1..=10 {
-            assert!(geo.contains(&format!(
-                "Physical Volume(\"grain{k}\", {}) = grain{k}();",
-                k + 1
-            )));
+            let group = format!("Physical Volume(\"grain{k}\", {}) = grain{k}();", k + 1);
+            assert!(geo.contains(&group), "{group}");
         }
-        for name in [
-            "\"matrix\"",
-            "\"bottom\"",
-            "\"top\"",
-            "\"x-\"",
-            "\"x+\"",
-            "\"y-\"",
-            "\"y+\"",
-        ] {
-            assert!(geo.contains(name), "{name}");
+        for name in ["matrix", "bottom", "top", "x-", "x+", "y-", "y+"] {
+            assert!(geo.contains(&format!("(\"{name}\", ")), "{name}");
         }
     }
 }

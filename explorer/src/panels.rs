@@ -30,10 +30,12 @@ pub fn top_bar(
                 .selected_text(info.name.clone())
                 .show_ui(ui, |ui| {
                     // scenes of a million dofs are for the command line (`lopin run`), not a
-                    // live view
-                    let scenes = lopin_core::scene::registry::SCENES
-                        .into_iter()
-                        .filter(|n| !lopin_core::scene::registry::is_large(n));
+                    // live view; the web build meshes nothing with gmsh
+                    let scenes = lopin_core::scene::registry::SCENES.into_iter().filter(|n| {
+                        !lopin_core::scene::registry::is_large(n)
+                            && (cfg!(feature = "meshes")
+                                || !lopin_core::scene::registry::needs_gmsh(n))
+                    });
                     for name in scenes {
                         if ui.selectable_label(info.name == name, name).clicked() {
                             chosen = Some(name.to_string());

@@ -149,3 +149,62 @@ fn a_missing_physical_surface_and_a_broken_script_are_clear_errors() {
     assert!(e.contains("broken.geo") && e.contains("gmsh failed"), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Two boxes meshed apart (not fragmented) and shifted by half a block: their faces overlap
+/// without sharing nodes, which is an error naming both bodies and a point of the face; and a
+/// time step far too large for gmsh's elements is an error naming `time.dt` and the body.
+#[test]
+fn non_matching_faces_and_an_absurd_time_step_are_clear_errors() {
+    let dir = std::env::temp_dir().join(format!("lopin-gmsh-nonmatching-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let geo = std::fs::read_to_string(format!(
+        "{}/../assets/meshes/two-blocks-tet.geo",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .expect("geo");
+    let shifted = geo
+        .replace(
+            "Box(2) = {0, 0, 0.02, 0.04, 0.04, 0.02};",
+            "Box(2) = {0.02, 0, 0.02, 0.04, 0.04, 0.02};",
+        )
+        .replace(
+            "BooleanFragments{ Volume{1}; Delete; }{ Volume{2}; Delete; }",
+            "",
+        )
+        .replace(
+            "0.04 + e, 0.04 + e, 0.04 + e",
+            "0.06 + e, 0.04 + e, 0.04 + e",
+        )
+        .replace(
+            "Volume In BoundingBox{-e, -e, 0.02 - e",
+            "Volume In BoundingBox{0.02 - e, -e, 0.02 - e",
+        );
+    std::fs::write(dir.join("apart.geo"), shifted).expect("write geo");
+    let (scene_text, _) = gmsh_scene("two-blocks-gmsh");
+    let mut spec = scene_text;
+    for b in &mut spec.mesh_bodies {
+        b.mesh = "apart.geo".into();
+    }
+    spec.interfaces.clear();
+    let path = dir.join("apart.toml");
+    std::fs::write(&path, scene::to_toml(&spec)).expect("write scene");
+    let path = path.display().to_string();
+    let loaded = scene::load(&path).expect("loads");
+    let e = scene::build::build(&loaded, &path)
+        .expect_err("non-matching faces")
+        .to_string();
+    assert!(
+        e.contains("apart.toml")
+            && e.contains("`A`")
+            && e.contains("`B`")
+            && e.contains("do not match"),
+        "{e}"
+    );
+    let (mut spec, path) = gmsh_scene("two-blocks-gmsh");
+    spec.time.dt = 1.0;
+    let e = scene::build::build(&spec, &path)
+        .expect_err("absurd dt")
+        .to_string();
+    assert!(e.contains("time.dt") && e.contains("mesh body"), "{e}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

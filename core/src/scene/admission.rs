@@ -214,12 +214,13 @@ pub fn admit(spec: &SceneSpec, source: &str, shape: SolveShape) -> Result<Footpr
         needed: bytes(fp.total_bytes()),
         available: format!("{} ({})", bytes(budget.bytes), budget.source),
         detail: fp.lines().join("; "),
-        remedy: remedies(&fp, limit),
+        remedy: remedies(&fp, limit, spec.granular_poly.is_some()),
     })
 }
 
-/// What would make a footprint fit under `limit` bytes.
-fn remedies(fp: &Footprint, limit: u64) -> String {
+/// What would make a footprint fit under `limit` bytes (`meshed`: a sample gmsh meshes, whose
+/// mesh is coarsened by its `mesh_size`).
+fn remedies(fp: &Footprint, limit: u64, meshed: bool) -> String {
     let mut out = Vec::new();
     let fixed = fp.operator_bytes as u128 + fp.factor_bytes as u128 + fp.macro_bytes as u128;
     let n1 = fp.steps as u128 + 1;
@@ -254,6 +255,9 @@ fn remedies(fp: &Footprint, limit: u64) -> String {
         surface / (c * c) + volume / (c * c * c) <= limit as f64
     });
     match coarser {
+        Some(c) if meshed => out.push(format!(
+            "a coarser mesh: `granular_poly.mesh_size` about {c}× larger"
+        )),
         Some(c) => out.push(format!(
             "a coarser mesh: about {c}× fewer hexahedra along each axis (smaller `divisions`, \
              `cell_elements` or `--refine`)"
@@ -434,10 +438,11 @@ fn granular_pieces(g: &crate::scene::granular::GranularSpec) -> Option<(Vec<Piec
     Some((groups, trace))
 }
 
-/// Nodes per cubic metre of a gmsh tetrahedral mesh of size h, times h³ (measured on the
-/// `granular-poly` sample: 5,714 nodes for a 0.1 m cube at h = 6 mm, 1.23; a regular
-/// tetrahedral packing gives 1.54): the estimate of [`polyhedral_pieces`] uses the larger.
-const TET_NODES_PER_H3: f64 = 1.54;
+/// Nodes per cubic metre of a gmsh tetrahedral mesh of size h, times h³, measured on the
+/// polyhedral samples: `granular-poly` 5,714 nodes for a 0.1 m cube at h = 6 mm (1.23),
+/// `granular-poly-paper` 322,964 for a 0.5 m cube at h = 6.8 mm (0.81); the estimate of
+/// [`polyhedral_pieces`] takes the larger.
+const TET_NODES_PER_H3: f64 = 1.23;
 
 /// The substructures of a `[granular_poly]` sample, before it is meshed: the matrix parts and
 /// one per grain, all counted as cubes of hexahedra holding the nodes a tetrahedral mesh of the
@@ -452,7 +457,7 @@ fn polyhedral_pieces(
         return None;
     }
     let per_piece = (nodes / pieces as f64).max(8.0);
-    let m = (per_piece.cbrt() - 1.0).ceil().max(1.0) as u128;
+    let m = (per_piece.cbrt() - 1.0).round().max(1.0) as u128;
     // two sides of three components on each of six faces, halved: every face is shared
     let trace = pieces
         .checked_mul(9)?

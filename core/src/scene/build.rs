@@ -144,6 +144,16 @@ pub fn build(spec: &SceneSpec, source: &str) -> Result<Problem> {
     // bodies from Gmsh files: one substructure each, or the parts the partitioner cuts
     // (issue 17); per substructure, the file node of each of its nodes
     let meshes = mesh_bodies::read(spec, source)?;
+    let measured: Vec<(&str, Material, &Mesh)> = spec
+        .mesh_bodies
+        .iter()
+        .zip(&meshes.bodies)
+        .filter_map(|(b, (mesh, _))| {
+            let m = materials.iter().find(|m| m.name == b.material)?;
+            Some((b.name.as_str(), m.material, mesh))
+        })
+        .collect();
+    crate::scene::validate::check_mesh_time_step(spec, source, &measured)?;
     let mut file_nodes: Vec<Vec<usize>> = Vec::new();
     for (i, (b, (mesh, file_node))) in spec.mesh_bodies.iter().zip(&meshes.bodies).enumerate() {
         let material_id = materials

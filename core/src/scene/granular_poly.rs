@@ -55,6 +55,9 @@ pub struct GranularPolySpec {
     pub ramp_steps: usize,
 }
 
+/// Most hull points per grain (the hull is found by brute force, O(n⁴)).
+const MAX_VERTICES: usize = 64;
+
 fn default_vertices() -> usize {
     12
 }
@@ -174,6 +177,29 @@ pub fn validate(spec: &SceneSpec, source: &str) -> Result<()> {
         return err(
             "matrix_substructures",
             "this build of Lopin has no graph partitioner (the web build)".into(),
+        );
+    }
+    if g.vertices > MAX_VERTICES {
+        return err(
+            "vertices",
+            format!(
+                "at most {MAX_VERTICES} hull points per grain, got {}",
+                g.vertices
+            ),
+        );
+    }
+    // the spheres of the smallest grains, each with half the gap around it, cannot fill more
+    // than random close packing (64 %) of the cube: refused before any try
+    let ball = 4.0 / 3.0 * std::f64::consts::PI * (g.radius[0] + 0.5 * g.gap).powi(3);
+    let most = (0.64 * g.side.powi(3) / ball).floor();
+    if ball.is_finite() && ball > 0.0 && g.grains as f64 > most {
+        return err(
+            "grains",
+            format!(
+                "{} grains of radius at least {} with gap {} cannot fit in a cube of side {} \
+                 (at most about {most})",
+                g.grains, g.radius[0], g.gap, g.side
+            ),
         );
     }
     if let Err(reason) = place_grains(&g.layout()) {

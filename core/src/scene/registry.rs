@@ -30,6 +30,15 @@ pub const TEST_SCENES: [&str; 4] = ["mini-blocks", "mini-impact", "mini-bar", "m
 /// `granular-poly-paper`: its polyhedral version, about 620 substructures).
 pub const LARGE: [&str; 2] = ["granular-paper", "granular-poly-paper"];
 
+/// Built-in scenes meshed by gmsh (`[granular_poly]`): the command line and the desktop
+/// explorer build them; the web build, which runs no programs, does not offer them.
+pub const NEEDS_GMSH: [&str; 2] = ["granular-poly", "granular-poly-paper"];
+
+/// Whether a built-in scene is meshed by gmsh ([`NEEDS_GMSH`]).
+pub fn needs_gmsh(name: &str) -> bool {
+    NEEDS_GMSH.contains(&name)
+}
+
 /// Whether a built-in scene is too large to solve in the tests or to offer in the explorer.
 pub fn is_large(name: &str) -> bool {
     LARGE.contains(&name)

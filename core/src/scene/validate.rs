@@ -441,8 +441,8 @@ fn check_physics(spec: &SceneSpec, source: &str) -> Result<()> {
     );
     let transit = h_min / c_max;
     let courant = spec.time.dt / transit;
-    // (the elements of mesh bodies are known once their files are read: a scene of mesh bodies
-    // only has no box element to measure here)
+    // (the elements of mesh bodies are known once their files are read: they are measured by
+    // [`check_mesh_time_step`] when the scene is built)
     if h_min.is_finite() && !in_range(courant, COURANT_RANGE) {
         return err(
             "time.dt".into(),
@@ -607,6 +607,50 @@ pub(crate) fn boundary_dofs(
         ));
     }
     Ok(dofs)
+}
+
+/// Checks Δt against the wave transit time of the smallest element of the mesh bodies (known
+/// once their files are read; box bodies are checked by [`validate`]): `meshes` holds each mesh
+/// body's name, material and mesh. The error names `time.dt`, the body and the element size.
+pub fn check_mesh_time_step(
+    spec: &SceneSpec,
+    source: &str,
+    meshes: &[(&str, Material, &crate::mesh::Mesh)],
+) -> Result<()> {
+    let mut smallest: Option<(f64, &str)> = None;
+    let mut c_max: f64 = 0.0;
+    for &(body, material, mesh) in meshes {
+        c_max = c_max.max(material.p_wave_speed());
+        for e in &mesh.elements {
+            let n = e.nodes();
+            for (i, &a) in n.iter().enumerate() {
+                for &b in &n[i + 1..] {
+                    let d = crate::mesh::norm(crate::mesh::sub(mesh.nodes[a], mesh.nodes[b]));
+                    if smallest.is_none_or(|(h, _)| d < h) {
+                        smallest = Some((d, body));
+                    }
+                }
+            }
+        }
+    }
+    let Some((h_min, body)) = smallest else {
+        return Ok(());
+    };
+    let transit = h_min / c_max;
+    let courant = spec.time.dt / transit;
+    if !in_range(courant, COURANT_RANGE) {
+        return Err(LopinError::scene(
+            source,
+            "time.dt",
+            format!(
+                "{:?} s is {courant:.3e} times the time a P wave takes to cross the smallest \
+                 element edge of mesh body `{body}` ({transit:.3e} s = {h_min:.3e} m / \
+                 {c_max:.3e} m/s); Lopin accepts {:e} to {:e} times it",
+                spec.time.dt, COURANT_RANGE.0, COURANT_RANGE.1
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// The reason when `n` substructures cannot be cut from a body of `elements` elements, or this

@@ -1,0 +1,182 @@
+//! The polyhedral granular material (`[granular_poly]`, issue 17), meshed by gmsh (the README's
+//! test command installs it):
+//!
+//! * `granular-poly` builds as the table says: a matrix cut into 8 substructures by METIS and
+//!   one substructure per grain, every grain in frictional contact with the matrix, at most
+//!   30,000 dofs; it solves at its default settings with the energy balance kept
+//!   (E ≤ E0 + input work within 1e-3) and contact gaps closed to the tolerance's scale.
+//! * A small sample (3 grains, 15 mm tetrahedra, the matrix in 4 parts, ρ∞ = 0.5, 20 steps):
+//!   LATIN at η < 1e-9 against the monolithic reference, within 1e-6 (measured: velocity
+//!   6.0e-7, force 3.0e-7, in 16,883 whole-interval iterations).
+//! * Bad tables are errors naming the field, before anything is meshed.
+
+use lopin_core::interface::Law;
+use lopin_core::scene::{self, SceneSpec};
+use lopin_core::{post, Settings, Solver};
+use lopin_reference::compare::compare;
+use lopin_reference::monolithic::Monolithic;
+use lopin_tests::solve;
+
+fn granular_poly() -> SceneSpec {
+    scene::registry::builtin("granular-poly").expect("registry scene")
+}
+
+#[test]
+fn granular_poly_builds_as_its_table_says_and_solves() {
+    let spec = granular_poly();
+    let problem = scene::build::build(&spec, &spec.name).unwrap_or_else(|e| panic!("{e}"));
+    let subs_of = |body: &str| problem.subs.iter().filter(|s| s.body == body).count();
+    assert_eq!(subs_of("matrix"), 8);
+    for k in 1..=10 {
+        assert_eq!(subs_of(&format!("grain{k}")), 1, "grain{k}");
+    }
+    let dofs: usize = problem.subs.iter().map(|s| s.ndof()).sum();
+    assert!(dofs <= 30_000, "{dofs} dofs");
+    // every grain touches the matrix through contact, and only through contact
+    for k in 1..=10 {
+        let grain = format!("grain{k}");
+        let touching: Vec<_> = problem
+            .interfaces
+            .iter()
+            .filter(|i| i.sides.iter().any(|s| problem.subs[s.sub].body == grain))
+            .collect();
+        assert!(!touching.is_empty(), "{grain} touches nothing");
+        assert!(
+            touching
+                .iter()
+                .all(|i| matches!(&i.law, Law::Contact(c) if (c.friction - 0.3).abs() < 1e-15)),
+            "{grain}: every interface is a contact with f = 0.3"
+        );
+    }
+    let contacts = problem.interfaces.iter().filter(|i| i.is_contact()).count();
+    println!(
+        "granular-poly: {dofs} dofs, {} substructures, {} interfaces ({contacts} contact)",
+        problem.subs.len(),
+        problem.interfaces.len()
+    );
+    let (solver, sol) = solve(&spec, |_| {});
+    assert!(sol.converged, "eta {}", sol.eta);
+    let s = post::summary(&solver, &sol);
+    let min_gap = s.min_gap.expect("contacts report a gap");
+    println!(
+        "granular-poly: {} iterations, max E/(E0 + input) {:.6}, min gap {min_gap:.3e} m, peak \
+         normal force {:.4e} N, max slip {:.3e} m",
+        sol.iterations, s.max_total_over_input, s.peak_normal_force, s.max_slip
+    );
+    assert!(s.max_total_over_input < 1.0 + 1e-3);
+    assert!(s.peak_normal_force > 0.0 && s.max_slip > 0.0);
+    // penetration at η < 1e-3 stays a small fraction of the 6 mm elements
+    assert!(min_gap > -1e-5, "min gap {min_gap}");
+}
+
+#[test]
+fn a_small_polyhedral_sample_equals_the_reference() {
+    let mut spec = granular_poly();
+    let g = spec.granular_poly.as_mut().expect("table");
+    g.grains = 3;
+    g.mesh_size = 0.015;
+    g.matrix_substructures = 4;
+    spec.time.steps = 20;
+    spec.solver.rho_inf = Some(0.5);
+    let problem = scene::build::build(&spec, &spec.name).unwrap_or_else(|e| panic!("{e}"));
+    let dofs: usize = problem.subs.iter().map(|s| s.ndof()).sum();
+    let mut settings = Settings::for_problem(&problem, &spec.solver);
+    settings.tol = 1e-9;
+    settings.window = None;
+    settings.max_iter = 20_000;
+    let mut solver = Solver::new(problem, settings).expect("setup");
+    let sol = solver.solve(None).expect("latin");
+    assert!(sol.converged, "eta {}", sol.eta);
+    let reference = Monolithic::new(solver.problem().clone()).expect("reference");
+    let mono = reference.solve().expect("reference solve");
+    let c = compare(&solver, &sol, &reference, &mono);
+    println!(
+        "3 polyhedral grains ({dofs} dofs, {} substructures): {} iterations, velocity {:.2e}, \
+         force {:.2e}",
+        solver.problem().subs.len(),
+        sol.iterations,
+        c.rel_diff_velocity,
+        c.rel_diff_force
+    );
+    assert!(
+        c.rel_diff_velocity < 1e-6 && c.rel_diff_force < 1e-6,
+        "{c:?}"
+    );
+}
+
+#[test]
+fn bad_tables_are_errors_naming_the_field_before_meshing() {
+    let text = scene::registry::source("granular-poly").expect("registry");
+    for (from, to, field, says) in [
+        (
+            "grains = 10",
+            "grains = 100000",
+            "granular_poly.grains",
+            "cannot fit",
+        ),
+        (
+            "grains = 10",
+            "grains = 40",
+            "granular_poly.grains",
+            "placed only",
+        ),
+        (
+            "vertices = 12",
+            "vertices = 3",
+            "granular_poly.grains",
+            "at least 6",
+        ),
+        (
+            "vertices = 12",
+            "vertices = 1000",
+            "granular_poly.vertices",
+            "at most 64",
+        ),
+        (
+            "mesh_size = 0.006",
+            "mesh_size = 0.5",
+            "granular_poly.mesh_size",
+            "smaller",
+        ),
+        (
+            "mesh_size = 0.006",
+            "mesh_size = 1e-5",
+            "mesh_size` about",
+            "needs about",
+        ),
+        (
+            "matrix = \"matrix\"",
+            "matrix = \"clay\"",
+            "granular_poly.matrix",
+            "clay",
+        ),
+        (
+            "friction = 0.3",
+            "friction = -1.0",
+            "granular_poly.friction",
+            "≥ 0",
+        ),
+        (
+            "matrix_substructures = 8",
+            "matrix_substructures = 0",
+            "granular_poly.matrix_substructures",
+            "at least 1",
+        ),
+    ] {
+        let edited = text.replacen(from, to, 1);
+        assert_ne!(edited, text, "{from}");
+        let e = scene::from_toml(&edited, "poly.toml")
+            .expect_err(to)
+            .to_string();
+        assert!(
+            e.contains("poly.toml") && e.contains(field) && e.contains(says),
+            "{to}: {e}"
+        );
+    }
+    let listed =
+        format!("{text}\n[[boundary]]\nbody = \"matrix\"\nsurface = \"top\"\nclamped = true\n");
+    let e = scene::from_toml(&listed, "poly.toml")
+        .expect_err("listed boundary")
+        .to_string();
+    assert!(e.contains("generates its bodies"), "{e}");
+}
