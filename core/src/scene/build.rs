@@ -381,7 +381,8 @@ fn cut(mesh: Mesh, n: usize, source: &str, field: &str) -> Result<Vec<(Mesh, Vec
             return Err(LopinError::scene(
                 source,
                 field,
-                "this build of Lopin has no graph partitioner (the web build)",
+                "this build of Lopin has no graph partitioner (the web build): use `split`, \
+                 or run the scene with the `lopin` command line",
             ));
         }
         let all = (0..mesh.nodes.len()).collect();

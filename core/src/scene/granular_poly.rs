@@ -173,12 +173,6 @@ pub fn validate(spec: &SceneSpec, source: &str) -> Result<()> {
     if g.matrix_substructures == 0 {
         return err("matrix_substructures", "must be at least 1".into());
     }
-    if g.matrix_substructures > 1 && !cfg!(feature = "partition") {
-        return err(
-            "matrix_substructures",
-            "this build of Lopin has no graph partitioner (the web build)".into(),
-        );
-    }
     if g.vertices > MAX_VERTICES {
         return err(
             "vertices",

@@ -653,8 +653,8 @@ pub fn check_mesh_time_step(
     Ok(())
 }
 
-/// The reason when `n` substructures cannot be cut from a body of `elements` elements, or this
-/// build has no graph partitioner (the web build).
+/// The reason when `n` substructures cannot be cut from a body of `elements` elements (a build
+/// without the graph partitioner, the web build, refuses n > 1 when it builds the scene).
 fn check_substructures(n: usize, elements: usize) -> std::result::Result<(), String> {
     if n == 0 {
         return Err("must be at least 1".into());
@@ -663,13 +663,6 @@ fn check_substructures(n: usize, elements: usize) -> std::result::Result<(), Str
         return Err(format!(
             "{n} substructures asked of a body of {elements} elements (at most one per element)"
         ));
-    }
-    if n > 1 && !cfg!(feature = "partition") {
-        return Err(
-            "this build of Lopin has no graph partitioner (the web build): use `split`, or run \
-             the scene with the `lopin` command line"
-                .into(),
-        );
     }
     Ok(())
 }
