@@ -58,6 +58,8 @@ pub mod partition;
 #[cfg(feature = "latin")]
 pub mod post;
 pub mod problem;
+#[cfg(feature = "partition")]
+pub mod rank_assignment;
 pub mod scene;
 pub mod search_direction;
 #[cfg(feature = "latin")]

@@ -30,6 +30,10 @@ pub struct EstimateArgs {
     /// the measured iteration time (smaller problems always are).
     #[arg(long)]
     pub measure: bool,
+    /// Also deal the built problem to P ranks of a distributed run (METIS on the substructure
+    /// graph) and print what each rank holds and sends per iteration.
+    #[arg(long, value_name = "P")]
+    pub ranks: Option<usize>,
 }
 
 pub fn estimate(args: &EstimateArgs) -> anyhow::Result<std::process::ExitCode> {
@@ -49,6 +53,8 @@ pub fn estimate(args: &EstimateArgs) -> anyhow::Result<std::process::ExitCode> {
             let json = EstimateReport {
                 footprint: &fp,
                 measured: None,
+                ranks: None,
+                window_steps: None,
             };
             println!("{}", serde_json::to_string_pretty(&json)?);
         } else {
@@ -64,6 +70,14 @@ pub fn estimate(args: &EstimateArgs) -> anyhow::Result<std::process::ExitCode> {
     let solver = Solver::new(built.problem, built.settings)
         .with_context(|| format!("{source}: setting up the solver"))?;
     let e = Estimate::of_solver(&solver);
+    let window = built.windows.window.unwrap_or(solver.problem().time.steps);
+    let ranks = args
+        .ranks
+        .map(|p| {
+            lopin_core::rank_assignment::assign(solver.problem(), &solver.classes().of, p)
+                .map_err(|r| anyhow::anyhow!("{source}: --ranks {p}: {r}"))
+        })
+        .transpose()?;
     if args.json {
         let json = EstimateReport {
             footprint: &fp,
@@ -74,6 +88,8 @@ pub fn estimate(args: &EstimateArgs) -> anyhow::Result<std::process::ExitCode> {
                 macro_dofs: solver.macro_problem().map(|mp| mp.size),
                 homogenized_operators: solver.macro_problem().map(|mp| mp.classes.count()),
             }),
+            ranks: ranks.as_ref(),
+            window_steps: Some(window),
         };
         println!("{}", serde_json::to_string_pretty(&json)?);
     } else {
@@ -98,8 +114,42 @@ pub fn estimate(args: &EstimateArgs) -> anyhow::Result<std::process::ExitCode> {
             },
             solver.counters().setup_s
         );
+        if let Some(a) = &ranks {
+            print_ranks(a, window);
+        }
     }
     Ok(std::process::ExitCode::SUCCESS)
+}
+
+/// The table of `--ranks P`: per rank its substructures, dofs, factorizations, cut interfaces
+/// and the bytes it sends per iteration over a window of `window` steps.
+fn print_ranks(a: &lopin_core::rank_assignment::RankAssignment, window: usize) {
+    println!(
+        "  {} ranks (METIS on the substructure graph): largest rank {:.3}x the mean dofs, {} \
+         interfaces cut between ranks",
+        a.ranks,
+        a.dof_imbalance(),
+        a.cut_interfaces()
+    );
+    let mut t = super::report::column_table([
+        "rank",
+        "substructures",
+        "dofs",
+        "factorizations",
+        "cut interfaces",
+        "sent per iteration",
+    ]);
+    for (r, l) in a.loads.iter().enumerate() {
+        t.add_row([
+            r.to_string(),
+            l.substructures.to_string(),
+            l.dofs.to_string(),
+            l.factorizations.to_string(),
+            l.cut_interfaces.to_string(),
+            lopin_core::scene::admission::bytes(l.bytes_sent(window) as u64),
+        ]);
+    }
+    println!("{t}");
 }
 
 /// The `--json` object: the footprint counted from the scene, and what building and
@@ -109,6 +159,12 @@ struct EstimateReport<'a> {
     footprint: &'a lopin_core::scene::admission::Footprint,
     #[serde(skip_serializing_if = "Option::is_none")]
     measured: Option<Measured<'a>>,
+    /// `--ranks P`: the substructures dealt to ranks.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    ranks: Option<&'a lopin_core::rank_assignment::RankAssignment>,
+    /// Steps of the window the bytes sent per iteration are counted over.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    window_steps: Option<usize>,
 }
 
 /// The core's estimate of a factorized solver and what only the solver knows.

@@ -65,19 +65,23 @@ fn default_grain_cells() -> [usize; 2] {
     [1, 3]
 }
 
-fn default_seed() -> u64 {
+/// Default of the granular tables (SCENES.md `granular`).
+pub(crate) fn default_seed() -> u64 {
     1
 }
 
-fn default_friction() -> f64 {
+/// Default of the granular tables (SCENES.md `granular`).
+pub(crate) fn default_friction() -> f64 {
     0.3
 }
 
-fn default_velocity() -> f64 {
+/// Default of the granular tables (SCENES.md `granular`).
+pub(crate) fn default_velocity() -> f64 {
     10.0
 }
 
-fn default_ramp_steps() -> usize {
+/// Default of the granular tables (SCENES.md `granular`).
+pub(crate) fn default_ramp_steps() -> usize {
     10
 }
 

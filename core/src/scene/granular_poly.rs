@@ -33,7 +33,7 @@ pub struct GranularPolySpec {
     /// cube's faces (m).
     pub gap: f64,
     /// Seed of the grain shapes and placement (the same seed always gives the same sample).
-    #[serde(default = "default_seed")]
+    #[serde(default = "crate::scene::granular::default_seed")]
     pub seed: u64,
     /// Target tetrahedron size (m).
     pub mesh_size: f64,
@@ -45,13 +45,13 @@ pub struct GranularPolySpec {
     /// Material of the grains (a `[[material]]` name).
     pub grain: String,
     /// Friction coefficient f of the grain/matrix contacts.
-    #[serde(default = "default_friction")]
+    #[serde(default = "crate::scene::granular::default_friction")]
     pub friction: f64,
     /// Velocity V₀ (m/s) imposed along −z on the top face.
-    #[serde(default = "default_velocity")]
+    #[serde(default = "crate::scene::granular::default_velocity")]
     pub velocity: f64,
     /// Duration of the (1 − cos) ramp of V₀, in time steps.
-    #[serde(default = "default_ramp_steps")]
+    #[serde(default = "crate::scene::granular::default_ramp_steps")]
     pub ramp_steps: usize,
 }
 
@@ -62,24 +62,8 @@ fn default_vertices() -> usize {
     12
 }
 
-fn default_seed() -> u64 {
-    1
-}
-
 fn default_one() -> usize {
     1
-}
-
-fn default_friction() -> f64 {
-    0.3
-}
-
-fn default_velocity() -> f64 {
-    10.0
-}
-
-fn default_ramp_steps() -> usize {
-    10
 }
 
 impl GranularPolySpec {
