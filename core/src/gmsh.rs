@@ -24,21 +24,6 @@ pub fn program() -> String {
     std::env::var("LOPIN_GMSH").unwrap_or_else(|_| "gmsh".into())
 }
 
-/// The gmsh version (`gmsh --version`), or the error saying how to install it.
-pub fn version() -> Result<String> {
-    let out = Command::new(program())
-        .arg("--version")
-        .output()
-        .map_err(|e| missing(&e))?;
-    let text = String::from_utf8_lossy(&out.stdout).trim().to_string();
-    let text = if text.is_empty() {
-        String::from_utf8_lossy(&out.stderr).trim().to_string()
-    } else {
-        text
-    };
-    Ok(text)
-}
-
 /// The directory meshes are cached in (created when missing).
 pub fn cache_dir() -> PathBuf {
     let env = |k: &str| {

@@ -82,6 +82,25 @@ pub fn read(path: &Path) -> Result<MshMesh> {
     parse(&bytes, &source)
 }
 
+/// The facets of a physical surface, each as its sorted file nodes.
+#[derive(Debug, Clone)]
+pub struct SurfaceFacets(std::collections::HashSet<Vec<usize>>);
+
+impl SurfaceFacets {
+    /// Whether a boundary face of a mesh whose nodes copy the file nodes `file_node` is one of
+    /// the surface's facets (the same nodes).
+    pub fn holds(&self, face: &crate::mesh::Face, file_node: &[usize]) -> bool {
+        self.0
+            .contains(&sorted(face.nodes.iter().map(|&n| file_node[n])))
+    }
+}
+
+fn sorted(nodes: impl Iterator<Item = usize>) -> Vec<usize> {
+    let mut k: Vec<usize> = nodes.collect();
+    k.sort_unstable();
+    k
+}
+
 fn bad(source: &str, reason: impl Into<String>) -> LopinError {
     LopinError::Io {
         path: source.to_string(),
@@ -456,29 +475,27 @@ impl MshMesh {
         Ok((Mesh { nodes, elements }, file_node))
     }
 
+    /// The facets of the physical surface `name`, gathered once to test the boundary faces of
+    /// every substructure cut from a body against them.
+    pub fn surface(&self, name: &str) -> Result<SurfaceFacets> {
+        Ok(SurfaceFacets(
+            self.surface_facets(name)?
+                .into_iter()
+                .map(|f| sorted(f.nodes.iter().copied()))
+                .collect(),
+        ))
+    }
+
     /// A test of the boundary faces of a body (`file_node`: its nodes' file nodes, from
-    /// [`Self::body`]) that accepts those on the physical surface `name`: a face whose nodes are
-    /// those of one of the surface's facets.
+    /// [`Self::body`]) that accepts those on the physical surface `name`.
     pub fn surface_selector(
         &self,
         name: &str,
         file_node: &[usize],
     ) -> Result<impl Fn(&crate::mesh::Face) -> bool> {
-        let facets: std::collections::HashSet<Vec<usize>> = self
-            .surface_facets(name)?
-            .into_iter()
-            .map(|f| {
-                let mut k = f.nodes.clone();
-                k.sort_unstable();
-                k
-            })
-            .collect();
+        let facets = self.surface(name)?;
         let file_node = file_node.to_vec();
-        Ok(move |face: &crate::mesh::Face| {
-            let mut k: Vec<usize> = face.nodes.iter().map(|&n| file_node[n]).collect();
-            k.sort_unstable();
-            facets.contains(&k)
-        })
+        Ok(move |face: &crate::mesh::Face| facets.holds(face, &file_node))
     }
 
     /// Area of a set of facets (a quadrangle as two triangles).

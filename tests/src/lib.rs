@@ -1,7 +1,8 @@
 //! Helpers for Lopin's cross-crate validation tests: 1D bars written as 3D scenes (one hexahedron
 //! across, ν = 0, so the 3D discretization is exactly the 1D one of METHOD §12), an independent
 //! monolithic 1D solver of the same discretization ([`mono1d`]), a writer of small Gmsh MSH 4.1
-//! files ([`msh_writer`]), and small solve/compare helpers.
+//! files ([`msh_writer`]), and small solve/compare helpers (a solve against the monolithic
+//! reference among them).
 
 pub mod bar1d;
 pub mod mono1d;
@@ -9,19 +10,40 @@ pub mod msh_writer;
 
 use bar1d::{Bar1d, Segment};
 use lopin_core::post;
+use lopin_core::problem::Problem;
+use lopin_core::scene::spec::SolverSpec;
 use lopin_core::scene::{self, SceneSpec};
 use lopin_core::time_function::TimeGrid;
 use lopin_core::{Settings, Solution, Solver};
+use lopin_reference::compare::{compare, Comparison};
+use lopin_reference::monolithic::Monolithic;
 use mono1d::{Chain, Contact};
 
 /// Builds and solves a scene, with `tweak` applied to the default settings.
 pub fn solve(spec: &SceneSpec, tweak: impl FnOnce(&mut Settings)) -> (Solver, Solution) {
     let problem = scene::build::build(spec, &spec.name).expect("scene builds");
-    let mut settings = Settings::for_problem(&problem, &spec.solver);
+    solve_problem(problem, &spec.solver, tweak)
+}
+
+/// Solves a built problem with the settings its scene's `[solver]` table gives, changed by
+/// `tweak`.
+pub fn solve_problem(
+    problem: Problem,
+    spec: &SolverSpec,
+    tweak: impl FnOnce(&mut Settings),
+) -> (Solver, Solution) {
+    let mut settings = Settings::for_problem(&problem, spec);
     tweak(&mut settings);
     let mut solver = Solver::new(problem, settings).expect("factorization");
     let sol = solver.solve(None).expect("solve");
     (solver, sol)
+}
+
+/// A LATIN solution against the monolithic reference of the same problem.
+pub fn against_reference(solver: &Solver, sol: &Solution) -> Comparison {
+    let reference = Monolithic::new(solver.problem().clone()).expect("reference");
+    let mono = reference.solve().expect("reference solve");
+    compare(solver, sol, &reference, &mono)
 }
 
 pub use lopin_core::post::velocity_history;

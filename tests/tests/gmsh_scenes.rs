@@ -18,9 +18,7 @@
 use lopin_core::post;
 use lopin_core::scene::{self, SceneSpec};
 use lopin_core::{Settings, Solver};
-use lopin_reference::compare::compare;
-use lopin_reference::monolithic::Monolithic;
-use lopin_tests::plateau;
+use lopin_tests::{against_reference, plateau, solve_problem};
 
 fn gmsh_scene(name: &str) -> (SceneSpec, String) {
     let path = format!(
@@ -35,21 +33,19 @@ fn build(name: &str) -> lopin_core::problem::Problem {
     scene::build::build(&spec, &path).unwrap_or_else(|e| panic!("{e}"))
 }
 
-fn solve_problem(
+/// Solves at the default settings changed by `tweak`, and checks it converged.
+fn solve_converged(
     problem: lopin_core::problem::Problem,
     tweak: impl FnOnce(&mut Settings),
 ) -> (Solver, lopin_core::Solution) {
-    let mut settings = Settings::for_problem(&problem, &Default::default());
-    tweak(&mut settings);
-    let mut solver = Solver::new(problem, settings).expect("setup");
-    let sol = solver.solve(None).expect("solve");
+    let (solver, sol) = solve_problem(problem, &Default::default(), tweak);
     assert!(sol.converged, "eta {}", sol.eta);
     (solver, sol)
 }
 
 /// Peak normal force and maximum slip at η < 1e-6 (one-step windows).
 fn contact_quantities(problem: lopin_core::problem::Problem) -> (f64, f64) {
-    let (solver, sol) = solve_problem(problem, |s| {
+    let (solver, sol) = solve_converged(problem, |s| {
         s.tol = 1e-6;
         s.window = Some(1);
     });
@@ -67,7 +63,7 @@ fn bar_meshed_by_gmsh_matches_dalembert() {
         .subs
         .iter()
         .all(|s| s.mesh.elements.iter().all(|e| e.nodes().len() == 4)));
-    let (solver, sol) = solve_problem(problem, |s| s.tol = 1e-6);
+    let (solver, sol) = solve_converged(problem, |s| s.tol = 1e-6);
     let steel = solver.problem().materials[0].material;
     let exact = -steel.density * steel.bar_speed() * 10.0;
     let (sigma, v) = plateau(&solver, &sol, 150, 0.005, 0.06);
@@ -107,15 +103,13 @@ fn two_blocks_meshed_by_gmsh_against_the_box_scene() {
 
 #[test]
 fn latin_on_gmsh_tetrahedra_equals_the_reference() {
-    let (solver, sol) = solve_problem(build("two-blocks-gmsh"), |s| {
+    let (solver, sol) = solve_converged(build("two-blocks-gmsh"), |s| {
         s.tol = 1e-9;
         s.window = None;
         s.max_iter = 20_000;
         s.anderson = 5;
     });
-    let reference = Monolithic::new(solver.problem().clone()).expect("reference");
-    let mono = reference.solve().expect("reference solve");
-    let c = compare(&solver, &sol, &reference, &mono);
+    let c = against_reference(&solver, &sol);
     println!(
         "two-blocks-gmsh vs reference: {} iterations, velocity {:.2e}, force {:.2e}",
         sol.iterations, c.rel_diff_velocity, c.rel_diff_force

@@ -11,11 +11,9 @@
 //! * Bad tables are errors naming the field, before anything is meshed.
 
 use lopin_core::interface::Law;
+use lopin_core::post;
 use lopin_core::scene::{self, SceneSpec};
-use lopin_core::{post, Settings, Solver};
-use lopin_reference::compare::compare;
-use lopin_reference::monolithic::Monolithic;
-use lopin_tests::solve;
+use lopin_tests::{against_reference, solve, solve_problem};
 
 fn granular_poly() -> SceneSpec {
     scene::registry::builtin("granular-poly").expect("registry scene")
@@ -80,16 +78,13 @@ fn a_small_polyhedral_sample_equals_the_reference() {
     spec.solver.rho_inf = Some(0.5);
     let problem = scene::build::build(&spec, &spec.name).unwrap_or_else(|e| panic!("{e}"));
     let dofs: usize = problem.subs.iter().map(|s| s.ndof()).sum();
-    let mut settings = Settings::for_problem(&problem, &spec.solver);
-    settings.tol = 1e-9;
-    settings.window = None;
-    settings.max_iter = 20_000;
-    let mut solver = Solver::new(problem, settings).expect("setup");
-    let sol = solver.solve(None).expect("latin");
+    let (solver, sol) = solve_problem(problem, &spec.solver, |s| {
+        s.tol = 1e-9;
+        s.window = None;
+        s.max_iter = 20_000;
+    });
     assert!(sol.converged, "eta {}", sol.eta);
-    let reference = Monolithic::new(solver.problem().clone()).expect("reference");
-    let mono = reference.solve().expect("reference solve");
-    let c = compare(&solver, &sol, &reference, &mono);
+    let c = against_reference(&solver, &sol);
     println!(
         "3 polyhedral grains ({dofs} dofs, {} substructures): {} iterations, velocity {:.2e}, \
          force {:.2e}",

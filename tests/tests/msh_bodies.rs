@@ -23,10 +23,9 @@ use lopin_core::scene::spec::{ComponentSpec, ElementKind};
 use lopin_core::substructure::Substructure;
 use lopin_core::time_function::{Ramp, TimeFunction, TimeGrid};
 use lopin_core::time_scheme::TimeScheme;
-use lopin_core::{msh, post, Settings, Solver};
-use lopin_reference::compare::compare;
-use lopin_reference::monolithic::Monolithic;
+use lopin_core::{msh, post, Solver};
 use lopin_tests::msh_writer::{stacked_cubes, write};
+use lopin_tests::{against_reference, solve_problem};
 
 const SIZE: f64 = 0.02;
 
@@ -109,12 +108,11 @@ fn problem_from_file(binary: bool) -> Problem {
 }
 
 fn tight(problem: Problem) -> (Solver, lopin_core::Solution) {
-    let mut settings = Settings::for_problem(&problem, &Default::default());
-    settings.tol = 1e-9;
-    settings.window = None;
-    settings.max_iter = 20_000;
-    let mut solver = Solver::new(problem, settings).expect("setup");
-    let sol = solver.solve(None).expect("solves");
+    let (solver, sol) = solve_problem(problem, &Default::default(), |s| {
+        s.tol = 1e-9;
+        s.window = None;
+        s.max_iter = 20_000;
+    });
     assert!(sol.converged, "eta {}", sol.eta);
     (solver, sol)
 }
@@ -141,9 +139,7 @@ fn bodies_from_a_gmsh_file_solve_against_the_reference() {
     let ascii = problem_from_file(false);
     assert_eq!(ascii.dof_count(), problem_from_file(true).dof_count());
     let (solver, sol) = tight(ascii);
-    let reference = Monolithic::new(solver.problem().clone()).expect("reference");
-    let mono = reference.solve().expect("reference solve");
-    let c = compare(&solver, &sol, &reference, &mono);
+    let c = against_reference(&solver, &sol);
     println!(
         "column from MSH: {} iterations; against the reference: velocity {:.2e}, force {:.2e}",
         sol.iterations, c.rel_diff_velocity, c.rel_diff_force

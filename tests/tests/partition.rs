@@ -8,7 +8,7 @@
 //!   the whole interval, Anderson depth 5): LATIN at η < 1e-9 gives the same nodal velocities
 //!   (every step, every node, by position) and the same energy history to 1e-6 for every cut,
 //!   and each equals the monolithic reference to 1e-6. Measured: velocities 7.2e-10 and 1.1e-9
-//!   from the uncut solve, energies 2.8e-11 and 3.8e-11, the reference 1.0e-7 (74, 669 and 824
+//!   from the uncut solve, energies 2.9e-11 and 3.9e-11, the reference 1.0e-7 (74, 669 and 824
 //!   iterations).
 //! * The cuts are not planar: their macro bases keep all 12 affine traces (METHOD §9).
 
@@ -18,9 +18,8 @@ use lopin_core::macro_basis::MacroBasis;
 use lopin_core::post;
 use lopin_core::scene::spec::ElementKind;
 use lopin_core::scene::{self, SceneSpec};
-use lopin_core::{Settings, Solution, Solver};
-use lopin_reference::compare::compare;
-use lopin_reference::monolithic::Monolithic;
+use lopin_core::{Solution, Solver};
+use lopin_tests::{against_reference, solve};
 
 fn impact(lower: usize, upper: usize) -> SceneSpec {
     let mut spec = scene::registry::builtin("mini-impact").expect("registry scene");
@@ -36,16 +35,13 @@ fn impact(lower: usize, upper: usize) -> SceneSpec {
     spec
 }
 
-fn solve(spec: &SceneSpec, two_scale: bool) -> (Solver, Solution) {
-    let problem = scene::build::build(spec, &spec.name).expect("builds");
-    let mut settings = Settings::for_problem(&problem, &spec.solver);
-    settings.tol = 1e-9;
-    settings.window = None;
-    settings.max_iter = 50_000;
-    settings.two_scale = two_scale;
-    settings.anderson = 5;
-    let mut solver = Solver::new(problem, settings).expect("setup");
-    let sol = solver.solve(None).expect("latin");
+fn solve_tight(spec: &SceneSpec) -> (Solver, Solution) {
+    let (solver, sol) = solve(spec, |s| {
+        s.tol = 1e-9;
+        s.window = None;
+        s.max_iter = 50_000;
+        s.anderson = 5;
+    });
     assert!(sol.converged, "eta {}", sol.eta);
     (solver, sol)
 }
@@ -131,11 +127,11 @@ fn partitions_hold_every_element_once_and_balance_dofs() {
 
 #[test]
 fn the_solution_does_not_depend_on_the_cut() {
-    let (s1, sol1) = solve(&impact(1, 1), false);
+    let (s1, sol1) = solve_tight(&impact(1, 1));
     let v1 = by_position(&s1, &sol1);
     let e1 = post::energy(&s1, &sol1);
     for (lower, upper) in [(4, 2), (16, 4)] {
-        let (s, sol) = solve(&impact(lower, upper), false);
+        let (s, sol) = solve_tight(&impact(lower, upper));
         let dv = rel_diff(&v1, &by_position(&s, &sol));
         let e = post::energy(&s, &sol);
         let steps = e1.kinetic.len();
@@ -144,9 +140,7 @@ fn the_solution_does_not_depend_on_the_cut() {
             .map(|m| (e1.total(m) - e.total(m)).abs())
             .fold(0.0, f64::max)
             / scale;
-        let reference = Monolithic::new(s.problem().clone()).expect("reference");
-        let mono = reference.solve().expect("reference solve");
-        let c = compare(&s, &sol, &reference, &mono);
+        let c = against_reference(&s, &sol);
         println!(
             "B in {lower}, A in {upper}: {} substructures, {} iterations (uncut {}), velocity vs \
              uncut {dv:.2e}, energy {de:.2e}, vs reference v {:.2e} F {:.2e}",

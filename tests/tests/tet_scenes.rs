@@ -10,10 +10,7 @@
 
 use lopin_core::scene::spec::ElementKind;
 use lopin_core::scene::{self, SceneSpec};
-use lopin_core::{Settings, Solver};
-use lopin_reference::compare::compare;
-use lopin_reference::monolithic::Monolithic;
-use lopin_tests::{plateau, solve};
+use lopin_tests::{against_reference, plateau, solve, solve_problem};
 
 fn on_tets(name: &str) -> SceneSpec {
     let mut spec = scene::registry::builtin(name).expect("registry scene");
@@ -38,16 +35,13 @@ fn latin_against_reference(spec: &SceneSpec) -> (f64, f64) {
                 .iter()
                 .all(|s| s.mesh.elements.len() == tets / problem.subs.len())
     );
-    let mut settings = Settings::for_problem(&problem, &spec.solver);
-    settings.tol = 1e-9;
-    settings.window = None;
-    settings.max_iter = 20_000;
-    let mut solver = Solver::new(problem, settings).expect("setup");
-    let sol = solver.solve(None).expect("latin");
+    let (solver, sol) = solve_problem(problem, &spec.solver, |s| {
+        s.tol = 1e-9;
+        s.window = None;
+        s.max_iter = 20_000;
+    });
     assert!(sol.converged, "{}: eta {}", spec.name, sol.eta);
-    let reference = Monolithic::new(solver.problem().clone()).expect("reference");
-    let mono = reference.solve().expect("reference solve");
-    let c = compare(&solver, &sol, &reference, &mono);
+    let c = against_reference(&solver, &sol);
     println!(
         "{} on {tets} tetrahedra: {} iterations, velocity {:.2e}, force {:.2e}, displacement {:.2e}",
         spec.name, sol.iterations, c.rel_diff_velocity, c.rel_diff_force, c.rel_diff_displacement

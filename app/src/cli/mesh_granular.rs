@@ -8,7 +8,6 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use clap::Args;
-use lopin_core::grain_geometry::place_grains;
 use lopin_core::mesh::Element;
 use lopin_core::scene;
 use serde::Serialize;
@@ -46,7 +45,6 @@ struct Sample {
     grain_volume_fraction: f64,
     nodes: usize,
     tetrahedra: usize,
-    dofs_per_body_copy: usize,
     cached: bool,
     mesh_seconds: f64,
     mesh: String,
@@ -67,10 +65,9 @@ pub fn granular(args: &GranularArgs) -> anyhow::Result<ExitCode> {
     if let Some(h) = args.mesh_size {
         g.mesh_size = h;
     }
-    scene::granular_poly::validate(&spec, &source)?;
+    let grains = scene::granular_poly::placed_grains(&spec, &source)?;
     let g = spec.granular_poly.as_ref().expect("checked above");
-    let grains = place_grains(&g.layout()).map_err(|r| anyhow::anyhow!("{source}: {r}"))?;
-    let script = g.script().map_err(|r| anyhow::anyhow!("{source}: {r}"))?;
+    let script = g.script(&grains);
     if let Some(path) = &args.geo {
         std::fs::write(path, &script)
             .map_err(|e| anyhow::anyhow!("{}: cannot write: {e}", path.display()))?;
@@ -95,7 +92,6 @@ pub fn granular(args: &GranularArgs) -> anyhow::Result<ExitCode> {
             .iter()
             .filter(|c| matches!(c.nodes, Element::Tet4(_)))
             .count(),
-        dofs_per_body_copy: 3 * m.nodes.len(),
         cached,
         mesh_seconds,
         mesh: args.output.as_ref().unwrap_or(&file).display().to_string(),

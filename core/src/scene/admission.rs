@@ -440,7 +440,7 @@ fn granular_pieces(g: &crate::scene::granular::GranularSpec) -> Option<(Vec<Piec
 
 /// Nodes per cubic metre of a gmsh tetrahedral mesh of size h, times h³, measured on the
 /// polyhedral samples: `granular-poly` 5,714 nodes for a 0.1 m cube at h = 6 mm (1.23),
-/// `granular-poly-paper` 322,964 for a 0.5 m cube at h = 6.8 mm (0.81); the estimate of
+/// `granular-poly-paper` 237,172 for a 0.5 m cube at h = 7.6 mm (0.83); the estimate of
 /// [`polyhedral_pieces`] takes the larger.
 const TET_NODES_PER_H3: f64 = 1.23;
 

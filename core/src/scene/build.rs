@@ -142,38 +142,37 @@ pub fn build(spec: &SceneSpec, source: &str) -> Result<Problem> {
         })
         .collect();
     // bodies from Gmsh files: one substructure each, or the parts the partitioner cuts
-    // (issue 17); per substructure, the file node of each of its nodes
-    let meshes = mesh_bodies::read(spec, source)?;
+    // (issue 17); per mesh body and substructure, the file node of each of its nodes
+    let mut meshes = mesh_bodies::read(spec, source)?;
+    let bodies = std::mem::take(&mut meshes.bodies);
     let measured: Vec<(&str, Material, &Mesh)> = spec
         .mesh_bodies
         .iter()
-        .zip(&meshes.bodies)
+        .zip(&bodies)
         .filter_map(|(b, (mesh, _))| {
             let m = materials.iter().find(|m| m.name == b.material)?;
             Some((b.name.as_str(), m.material, mesh))
         })
         .collect();
     crate::scene::validate::check_mesh_time_step(spec, source, &measured)?;
-    let mut file_nodes: Vec<Vec<usize>> = Vec::new();
-    for (i, (b, (mesh, file_node))) in spec.mesh_bodies.iter().zip(&meshes.bodies).enumerate() {
+    let mut file_nodes: Vec<Vec<Vec<usize>>> = Vec::new();
+    for (i, (b, (mesh, file_node))) in spec.mesh_bodies.iter().zip(bodies).enumerate() {
         let material_id = materials
             .iter()
             .position(|m| m.name == b.material)
             .unwrap_or_default();
-        let parts = match b.substructures {
-            Some(n) => cut(
-                mesh.clone(),
-                n,
-                source,
-                &format!("mesh_body[{i}].substructures"),
-            )?,
-            None => vec![(mesh.clone(), (0..mesh.nodes.len()).collect())],
-        };
+        let parts = cut(
+            mesh,
+            b.substructures.unwrap_or(1),
+            source,
+            &format!("mesh_body[{i}].substructures"),
+        )?;
         let count = parts.len();
         let mut ids = Vec::new();
+        let mut maps = Vec::new();
         for (p, (part, origin)) in parts.into_iter().enumerate() {
             ids.push(subs.len());
-            file_nodes.push(origin.iter().map(|&o| file_node[o]).collect());
+            maps.push(origin.iter().map(|&o| file_node[o]).collect());
             subs.push(Substructure::assemble_cached(
                 part_name(&b.name, p, count),
                 b.name.clone(),
@@ -185,8 +184,8 @@ pub fn build(spec: &SceneSpec, source: &str) -> Result<Problem> {
             ));
         }
         body_subs.push(ids);
+        file_nodes.push(maps);
     }
-    let box_subs = subs.len() - file_nodes.len();
     // the override of each pair of bodies, looked up by pair (scenes have hundreds of bodies)
     let body_index: HashMap<&str, usize> = spec
         .bodies
@@ -237,7 +236,7 @@ pub fn build(spec: &SceneSpec, source: &str) -> Result<Problem> {
                     &subs,
                     body - spec.bodies.len(),
                     &body_subs[body],
-                    &file_nodes[body_subs[body][0] - box_subs..],
+                    &file_nodes[body - spec.bodies.len()],
                     bc.surface.as_deref().unwrap_or_default(),
                     &dofs,
                 )
@@ -369,6 +368,10 @@ fn part_name(body: &str, p: usize, count: usize) -> String {
 /// A body's mesh cut into `n` substructures by the graph partitioner (each part's mesh, and per
 /// node the body node it copies); `field` names the scene field in errors.
 fn cut(mesh: Mesh, n: usize, source: &str, field: &str) -> Result<Vec<(Mesh, Vec<usize>)>> {
+    if n <= 1 {
+        let all = (0..mesh.nodes.len()).collect();
+        return Ok(vec![(mesh, all)]);
+    }
     #[cfg(feature = "partition")]
     {
         crate::partition::partition(&mesh, n)
@@ -377,16 +380,12 @@ fn cut(mesh: Mesh, n: usize, source: &str, field: &str) -> Result<Vec<(Mesh, Vec
     }
     #[cfg(not(feature = "partition"))]
     {
-        if n > 1 {
-            return Err(LopinError::scene(
-                source,
-                field,
-                "this build of Lopin has no graph partitioner (the web build): use `split`, \
-                 or run the scene with the `lopin` command line",
-            ));
-        }
-        let all = (0..mesh.nodes.len()).collect();
-        Ok(vec![(mesh, all)])
+        Err(LopinError::scene(
+            source,
+            field,
+            "this build of Lopin has no graph partitioner (the web build): use `split`, or run \
+             the scene with the `lopin` command line",
+        ))
     }
 }
 

@@ -10,7 +10,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::error::{LopinError, Result};
-use crate::grain_geometry::{place_grains, GrainLayout};
+use crate::grain_geometry::{place_grains, GrainLayout, Polyhedron};
 use crate::scene::spec::{
     BoundarySpec, ComponentSpec, InterfaceKind, InterfaceSpec, MeshBodySpec, SceneSpec,
 };
@@ -79,16 +79,9 @@ impl GranularPolySpec {
         }
     }
 
-    /// The gmsh script of the sample (the grains placed from the seed), or the reason the
-    /// grains cannot be placed.
-    pub fn script(&self) -> std::result::Result<String, String> {
-        let layout = self.layout();
-        let grains = place_grains(&layout)?;
-        Ok(crate::grain_geometry::geo_script(
-            &layout,
-            &grains,
-            self.mesh_size,
-        ))
+    /// The gmsh script of the sample made of `grains` (placed by [`placed_grains`]).
+    pub fn script(&self, grains: &[Polyhedron]) -> String {
+        crate::grain_geometry::geo_script(&self.layout(), grains, self.mesh_size)
     }
 }
 
@@ -96,8 +89,14 @@ impl GranularPolySpec {
 /// field and the reason): no listed bodies, interfaces or boundaries, the materials, positive
 /// sizes, and a layout whose grains can be placed.
 pub fn validate(spec: &SceneSpec, source: &str) -> Result<()> {
+    placed_grains(spec, source).map(|_| ())
+}
+
+/// The grains of the `[granular_poly]` table of `spec`, placed once its table is checked as
+/// [`validate`] says (none without a table).
+pub fn placed_grains(spec: &SceneSpec, source: &str) -> Result<Vec<Polyhedron>> {
     let Some(g) = &spec.granular_poly else {
-        return Ok(());
+        return Ok(Vec::new());
     };
     let err = |field: &str, reason: String| {
         Err(LopinError::scene(
@@ -180,16 +179,17 @@ pub fn validate(spec: &SceneSpec, source: &str) -> Result<()> {
             ),
         );
     }
-    if let Err(reason) = place_grains(&g.layout()) {
-        return err("grains", reason);
-    }
+    let grains = match place_grains(&g.layout()) {
+        Ok(grains) => grains,
+        Err(reason) => return err("grains", reason),
+    };
     // counted (from the mesh size) and admitted before anything is meshed
     crate::scene::admission::admit(
         spec,
         source,
         crate::scene::admission::SolveShape::smallest(),
     )?;
-    Ok(())
+    Ok(grains)
 }
 
 /// Expands the `[granular_poly]` table into the scene it describes: meshes the sample with gmsh
@@ -198,8 +198,8 @@ pub fn expand(spec: &SceneSpec, source: &str) -> Result<SceneSpec> {
     let Some(g) = &spec.granular_poly else {
         return Ok(spec.clone());
     };
-    validate(spec, source)?;
-    let mesh = mesh_file(g, &spec.name)
+    let grains = placed_grains(spec, source)?;
+    let mesh = mesh_file(&g.script(&grains), &spec.name)
         .map_err(|reason| LopinError::scene(source, "granular_poly", reason))?;
     let body = |name: String, material: &str, substructures: usize| MeshBodySpec {
         name,
@@ -252,15 +252,14 @@ pub fn expand(spec: &SceneSpec, source: &str) -> Result<SceneSpec> {
 
 /// The MSH file of the sample: meshed by gmsh now or taken from the cache.
 #[cfg(feature = "msh")]
-fn mesh_file(g: &GranularPolySpec, name: &str) -> std::result::Result<String, String> {
-    let script = g.script()?;
-    crate::gmsh::mesh_script(name, &script)
+fn mesh_file(script: &str, name: &str) -> std::result::Result<String, String> {
+    crate::gmsh::mesh_script(name, script)
         .map(|p| p.display().to_string())
         .map_err(|e| e.to_string())
 }
 
 #[cfg(not(feature = "msh"))]
-fn mesh_file(_: &GranularPolySpec, _: &str) -> std::result::Result<String, String> {
+fn mesh_file(_: &str, _: &str) -> std::result::Result<String, String> {
     Err(
         "this build of Lopin meshes no polyhedral grains (the web build): run the scene with \
          the `lopin` command line"

@@ -112,11 +112,10 @@ impl MeshBodies {
         #[cfg(feature = "msh")]
         {
             let file = &self.files[self.file_of[i]];
+            let facets = file.surface(surface).map_err(|e| e.to_string())?;
             let mut found = Vec::new();
             for (&sub, file_node) in subs_of.iter().zip(file_nodes) {
-                let selector = file
-                    .surface_selector(surface, file_node)
-                    .map_err(|e| e.to_string())?;
+                let selector = |face: &crate::mesh::Face| facets.holds(face, file_node);
                 let label = format!("{}:{surface}", subs[sub].name);
                 found.extend(boundary_interface_on(subs, sub, &selector, dofs, label));
             }
