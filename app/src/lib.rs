@@ -5,5 +5,6 @@
 pub mod build_info;
 pub mod cli;
 pub mod export;
+pub mod ranks;
 pub mod record;
 pub mod run_dir;

@@ -122,7 +122,7 @@ impl Estimate {
         let mut members = vec![0usize; classes.count()];
         classes.of.iter().for_each(|&c| members[c] += 1);
         let mut per_step = 0.0;
-        for (c, f) in solver.factors().iter().enumerate() {
+        for (c, f) in solver.class_factors() {
             let mut x: Vec<f64> = (0..f.n()).map(|i| (i as f64 * 0.37).sin()).collect();
             let mut scratch = f.scratch();
             let reps = 3;

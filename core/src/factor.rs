@@ -21,6 +21,15 @@ pub struct SolveScratch {
     buffer: MemBuffer,
 }
 
+impl SolveScratch {
+    /// No scratch: the buffers of a substructure held by another rank, never solved here.
+    pub fn none() -> Self {
+        Self {
+            buffer: MemBuffer::new(faer::dyn_stack::StackReq::empty()),
+        }
+    }
+}
+
 impl std::fmt::Debug for SolveScratch {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str("SolveScratch")

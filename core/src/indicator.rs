@@ -18,6 +18,7 @@
 //! x_m = (−1)^m c, has x̄ = 0 and so leaves η̄ untouched while it keeps η up (METHOD §10).
 //! [`StopTest`] says which of the two the stopping test reads.
 
+use crate::distribution::Distribution;
 use crate::interface::Interface;
 use crate::state::{InterfaceState, TraceHistory};
 pub use crate::stop_test::StopTest;
@@ -26,40 +27,47 @@ pub use crate::stop_test::StopTest;
 /// ((x_m + x_{m−1})/2) of the linear-stage output `s_new` (per substructure trace) and ŝ (per
 /// interface side), with each interface's areas and direction factors k·k_scale. Step m0 − 1
 /// (the initial state, or the last step of the previous window) is read from the same
-/// histories. In parallel over interfaces.
+/// histories. One sum per interface side, computed in parallel on the rank holding the side's
+/// substructure and added in (interface, side) order ([`Distribution::gathered_sums`]).
 pub fn smooth_sums(
     interfaces: &[Interface],
     k: f64,
     s_new: &InterfaceState,
     hats: &[Vec<TraceHistory>],
     (m0, m1): (usize, usize),
+    distribution: &Distribution,
 ) -> IndicatorSums {
-    let per_interface = crate::par::map_range(interfaces.len(), |i| {
+    let sides: Vec<(usize, usize)> = interfaces
+        .iter()
+        .enumerate()
+        .flat_map(|(i, iface)| (0..iface.sides.len()).map(move |j| (i, j)))
+        .collect();
+    let per_side = crate::par::map_range(sides.len(), |n| {
+        let (i, j) = sides[n];
         let iface = &interfaces[i];
+        let side = &iface.sides[j];
+        if !distribution.holds_sub(side.sub) {
+            return None;
+        }
+        let hat = &hats[i][j];
         let mut sums = IndicatorSums::default();
-        for (side, hat) in iface.sides.iter().zip(&hats[i]) {
-            let t = &s_new.subs[side.sub];
-            for m in m0.max(1)..=m1 {
-                let (now, prev) = (t.at(m).start + side.offset, t.at(m - 1).start + side.offset);
-                let (hn, hp) = (hat.at(m).start, hat.at(m - 1).start);
-                for j in 0..iface.len {
-                    let avg = |x: &[f64], a: usize, b: usize| 0.5 * (x[a + j] + x[b + j]);
-                    sums.add_dof(
-                        iface.area[j],
-                        k * iface.k_scale[j],
-                        (avg(&t.f, now, prev), avg(&t.w, now, prev)),
-                        (avg(&hat.f, hn, hp), avg(&hat.w, hn, hp)),
-                    );
-                }
+        let t = &s_new.subs[side.sub];
+        for m in m0.max(1)..=m1 {
+            let (now, prev) = (t.at(m).start + side.offset, t.at(m - 1).start + side.offset);
+            let (hn, hp) = (hat.at(m).start, hat.at(m - 1).start);
+            for j in 0..iface.len {
+                let avg = |x: &[f64], a: usize, b: usize| 0.5 * (x[a + j] + x[b + j]);
+                sums.add_dof(
+                    iface.area[j],
+                    k * iface.k_scale[j],
+                    (avg(&t.f, now, prev), avg(&t.w, now, prev)),
+                    (avg(&hat.f, hn, hp), avg(&hat.w, hn, hp)),
+                );
             }
         }
-        sums
+        Some(sums)
     });
-    let mut total = IndicatorSums::default();
-    for s in per_interface {
-        total.add(s);
-    }
-    total
+    distribution.gathered_sums(per_side.into_iter())
 }
 
 /// Numerator and denominator sums of η² (METHOD §6) over some dofs and steps.
@@ -211,7 +219,8 @@ mod tests {
             s_new.subs[0].f[m] = 3.0 * ramp - 3.0 * mode;
         }
         // steps 2..=6: every average of the mode vanishes, so η̄ = 0 exactly while η does not
-        let sm = smooth_sums(&ifaces, 3.0, &s_new, &hats, (2, steps));
+        let one = Distribution::single_for(1, &ifaces);
+        let sm = smooth_sums(&ifaces, 3.0, &s_new, &hats, (2, steps), &one);
         assert_eq!(sm.num, 0.0);
         assert!(sm.den > 0.0);
         let mut plain = IndicatorSums::default();
@@ -230,7 +239,7 @@ mod tests {
             s_new.subs[0].w[m] = 2.0 * hats[0][0].w[m];
             s_new.subs[0].f[m] = 2.0 * hats[0][0].f[m];
         }
-        let sm = smooth_sums(&ifaces, 3.0, &s_new, &hats, (1, steps));
+        let sm = smooth_sums(&ifaces, 3.0, &s_new, &hats, (1, steps), &one);
         let mut expected = IndicatorSums::default();
         for m in 1..=steps {
             let (w, f) = (m as f64 - 0.5, 3.0 * (m as f64 - 0.5));

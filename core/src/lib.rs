@@ -24,6 +24,8 @@ pub mod acceleration;
 pub mod counters;
 pub mod dense;
 pub mod detect;
+#[cfg(feature = "latin")]
+pub mod distribution;
 pub mod error;
 #[cfg(feature = "latin")]
 pub mod estimate;
@@ -60,6 +62,7 @@ pub mod post;
 pub mod problem;
 #[cfg(feature = "partition")]
 pub mod rank_assignment;
+pub mod ranks;
 pub mod scene;
 pub mod search_direction;
 #[cfg(feature = "latin")]
@@ -73,6 +76,8 @@ pub mod substructure;
 #[cfg(feature = "latin")]
 pub mod sweep;
 pub mod tet4;
+#[cfg(feature = "latin")]
+pub mod thread_ranks;
 pub mod time_function;
 pub mod time_scheme;
 pub mod window_choice;

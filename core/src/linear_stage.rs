@@ -23,8 +23,9 @@ use crate::state::TraceHistory;
 use crate::substructure::Substructure;
 use crate::time_scheme::StepCoefficients;
 
-/// Kinematic state (u, v, a) of a substructure at one step.
-#[derive(Debug, Clone, PartialEq)]
+/// Kinematic state (u, v, a) of a substructure at one step (empty for a substructure held by
+/// another rank of a distributed run).
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct SubState {
     /// Displacement.
     pub u: Vec<f64>,
@@ -96,6 +97,19 @@ impl LinearWork {
             fhat: vec![0.0; sub.trace_len()],
             what: vec![0.0; sub.trace_len()],
             scratch: factor.scratch(),
+        }
+    }
+
+    /// No buffers: a substructure held by another rank of a distributed run
+    /// ([`crate::distribution`]).
+    pub fn idle() -> Self {
+        Self {
+            state: SubState::default(),
+            rhs_then_v: Vec::new(),
+            rhs_then_ckv: Vec::new(),
+            fhat: Vec::new(),
+            what: Vec::new(),
+            scratch: SolveScratch::none(),
         }
     }
 

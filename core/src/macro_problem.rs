@@ -8,7 +8,15 @@
 //! global macro operator L = Σ_E L_E over the macro dofs (9 per planar interface), assembled and
 //! factorized once. Per time step: the macro right-hand side b = −Σ_E Êᵀ A F¹ (step 2), the
 //! solve L α = b (step 3), and per substructure the correction data of step 4.
+//!
+//! In a distributed run ([`crate::distribution`]) a rank homogenizes the classes with a
+//! substructure on it (from the class representative, as on one machine: every rank holds the
+//! whole problem description); the L_E of every class comes from the rank of its
+//! representative by an exact all-sum, and every rank assembles and factorizes the same L (the
+//! macro problem is replicated: it is small, and one solve per step costs less than a
+//! broadcast).
 
+use crate::distribution::Distribution;
 use crate::error::{LopinError, Result};
 use crate::factor::{CholeskyFactor, SolveScratch};
 use crate::macro_basis::MacroBasis;
@@ -34,7 +42,7 @@ pub struct MacroSide {
 pub struct Homogenized {
     /// Macro unknowns n_M,E.
     pub count: usize,
-    /// Z_E, dofs × n_M,E, column-major.
+    /// Z_E, dofs × n_M,E, column-major (empty on a rank without a substructure of the class).
     pub z: Vec<f64>,
     /// L_E, n_M,E × n_M,E, row-major (symmetric).
     pub l: Vec<f64>,
@@ -66,14 +74,16 @@ pub struct MacroProblem {
 impl MacroProblem {
     /// Builds the macro bases, the homogenized operators (one per class; `factors[c]` is the
     /// factorization of S of the substructures of `factor_classes` class c) and the factorized
-    /// global operator.
+    /// global operator. `factors[c]` is None for a class with no substructure on this rank of
+    /// `distribution`.
     pub fn new(
         problem: &Problem,
         k: f64,
         factor_classes: &Classes,
-        factors: &[CholeskyFactor],
+        factors: &[Option<CholeskyFactor>],
+        distribution: &Distribution,
     ) -> Result<Self> {
-        let factor_of = |s: usize| &factors[factor_classes.of[s]];
+        let factor_of = |s: usize| factors[factor_classes.of[s]].as_ref();
         let mut offsets = vec![0; problem.interfaces.len()];
         let mut size = 0;
         let bases: Vec<Option<MacroBasis>> = problem
@@ -118,10 +128,22 @@ impl MacroProblem {
                 .map(|m| (m.interface, m.trace_offset))
                 .collect()
         });
-        let homogenized = par::map_range(classes.count(), |c| {
+        let mut needed = vec![false; classes.count()];
+        for (i, &c) in classes.of.iter().enumerate() {
+            needed[c] |= distribution.holds_sub(i);
+        }
+        let mut homogenized = par::map_range(classes.count(), |c| {
             let s = classes.representatives[c];
-            homogenize(problem, s, &sides[s], &bases, k, factor_of(s))
+            match factor_of(s) {
+                Some(factor) if needed[c] => homogenize(problem, s, &sides[s], &bases, k, factor),
+                _ => Homogenized {
+                    count: macro_count(&sides[s], &bases),
+                    z: Vec::new(),
+                    l: Vec::new(),
+                },
+            }
         });
+        share_operators(&mut homogenized, &classes, distribution);
         let global: Vec<Vec<usize>> = sides
             .iter()
             .map(|sub_sides| {
@@ -227,6 +249,43 @@ impl MacroProblem {
     }
 }
 
+/// Macro unknowns of a substructure with these macro sides.
+fn macro_count(sides: &[MacroSide], bases: &[Option<MacroBasis>]) -> usize {
+    sides
+        .iter()
+        .filter_map(|m| bases[m.interface].as_ref().map(|b| b.count))
+        .sum()
+}
+
+/// Gives every rank the L_E of every class, from the rank of the class representative.
+fn share_operators(
+    homogenized: &mut [Homogenized],
+    classes: &Classes,
+    distribution: &Distribution,
+) {
+    if distribution.is_single() {
+        return;
+    }
+    let mut flat = Vec::new();
+    for (c, h) in homogenized.iter().enumerate() {
+        let from_here = distribution.holds_sub(classes.representatives[c]);
+        let n = h.count * h.count;
+        if from_here {
+            flat.extend_from_slice(&h.l);
+        } else {
+            flat.extend(std::iter::repeat_n(0.0, n));
+        }
+    }
+    distribution.all_sum(&mut flat);
+    let mut at = 0;
+    for h in homogenized.iter_mut() {
+        let n = h.count * h.count;
+        h.l.clear();
+        h.l.extend_from_slice(&flat[at..at + n]);
+        at += n;
+    }
+}
+
 /// Z_E and L_E of substructure `s` (METHOD §9 "Homogenised operator").
 fn homogenize(
     problem: &Problem,
@@ -238,10 +297,7 @@ fn homogenize(
 ) -> Homogenized {
     let sub = &problem.subs[s];
     let n = sub.ndof();
-    let count: usize = sides
-        .iter()
-        .filter_map(|m| bases[m.interface].as_ref().map(|b| b.count))
-        .sum();
+    let count = macro_count(sides, bases);
     // Bᵀ A Ê, column by column
     let mut z = vec![0.0; n * count];
     for m in sides {

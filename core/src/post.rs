@@ -92,13 +92,18 @@ pub fn fields_at(solver: &Solver, sol: &Solution, m: usize) -> Vec<SubFields> {
 }
 
 /// u and v of every substructure at every step, `[sub][m]`, m = 0..=N: one replay per
-/// substructure (what exports need; [`fields_at`] replays up to one step).
+/// substructure (what exports need; [`fields_at`] replays up to one step). In a distributed run,
+/// of this rank's substructures only (the others' lists are empty; [`gather_history`]).
 pub fn history(solver: &Solver, sol: &Solution) -> Vec<Vec<SubFields>> {
     let t = Instant::now();
     let p = solver.problem();
     let n = p.time.steps;
+    let dist = solver.distribution();
     let out = par::map_range(p.subs.len(), |i| {
         let mut steps = Vec::with_capacity(n + 1);
+        if !dist.holds_sub(i) {
+            return steps;
+        }
         replay(solver, sol, i, n, &mut |_, st, _, _| {
             steps.push(SubFields {
                 u: st.u.clone(),
@@ -109,6 +114,50 @@ pub fn history(solver: &Solver, sol: &Solution) -> Vec<Vec<SubFields>> {
     });
     solver.counters().add_post(t.elapsed().as_secs_f64());
     out
+}
+
+/// Completes a distributed run's [`history`] on rank 0 (every rank calls it; the others keep
+/// theirs): each rank sends the fields of its substructures to rank 0 in one message.
+pub fn gather_history(solver: &Solver, history: &mut [Vec<SubFields>]) {
+    let dist = solver.distribution();
+    if dist.is_single() {
+        return;
+    }
+    let p = solver.problem();
+    let steps = p.time.steps + 1;
+    let size = |i: usize| 2 * steps * p.subs[i].ndof();
+    let on = |r: usize| (0..p.subs.len()).filter(move |&i| dist.sub_ranks()[i] == r);
+    if dist.rank() == 0 {
+        let receive: Vec<(usize, usize)> = (1..dist.size())
+            .map(|r| (r, on(r).map(size).sum()))
+            .collect();
+        let got = dist.ranks().exchange(&[], &receive);
+        for (r, data) in (1..dist.size()).zip(got) {
+            let mut at = 0;
+            for i in on(r) {
+                let d = p.subs[i].ndof();
+                history[i] = (0..steps)
+                    .map(|_| {
+                        let f = SubFields {
+                            u: data[at..at + d].to_vec(),
+                            v: data[at + d..at + 2 * d].to_vec(),
+                        };
+                        at += 2 * d;
+                        f
+                    })
+                    .collect();
+            }
+        }
+    } else {
+        let mut data = Vec::new();
+        for i in on(dist.rank()) {
+            for f in &history[i] {
+                data.extend_from_slice(&f.u);
+                data.extend_from_slice(&f.v);
+            }
+        }
+        dist.ranks().exchange(&[(0, data)], &[]);
+    }
 }
 
 /// Element von Mises stress (at the element centre) of substructure `i` for displacements `u`.
@@ -161,7 +210,11 @@ pub fn energy(solver: &Solver, sol: &Solution) -> EnergyHistory {
     let dt = p.time.dt;
     let trapezoidal = p.scheme.is_trapezoidal();
     let gamma = p.scheme.parameters().1;
+    let dist = solver.distribution();
     let per_sub = par::map_range(p.subs.len(), |i| {
+        if !dist.holds_sub(i) {
+            return (vec![0.0; n + 1], vec![0.0; n + 1], vec![0.0; n + 1]);
+        }
         let sub = &p.subs[i];
         // boundary trace ranges of this substructure
         let ranges: Vec<std::ops::Range<usize>> = sub
@@ -217,6 +270,23 @@ pub fn energy(solver: &Solver, sol: &Solution) -> EnergyHistory {
         kinetic: vec![0.0; n + 1],
         strain: vec![0.0; n + 1],
         input_work: vec![0.0; n + 1],
+    };
+    // distributed: every substructure's histories from its rank, added in index order
+    let per_sub = if dist.is_single() {
+        per_sub
+    } else {
+        let mut flat: Vec<f64> = per_sub
+            .iter()
+            .flat_map(|(k, s, w)| k.iter().chain(s).chain(w).copied())
+            .collect();
+        dist.all_sum(&mut flat);
+        flat.chunks_exact(3 * (n + 1))
+            .map(|c| {
+                let (k, sw) = c.split_at(n + 1);
+                let (s, w) = sw.split_at(n + 1);
+                (k.to_vec(), s.to_vec(), w.to_vec())
+            })
+            .collect()
     };
     for (k, s, w) in per_sub {
         for m in 0..=n {

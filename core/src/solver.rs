@@ -15,6 +15,10 @@
 //!
 //! [`Solver::begin`] / [`Solver::step`] / [`Solver::finish`] let a caller without threads advance
 //! a solve a few iterations at a time.
+//!
+//! [`Solver::new_distributed`] runs the same iteration on several ranks ([`crate::ranks`]):
+//! each factorizes and marches only the substructures [`crate::distribution`] deals it, and
+//! reaches the same iterates, η and decisions as the run on one machine.
 
 pub mod iteration;
 mod linear;
@@ -28,7 +32,10 @@ pub use iteration::SolveRun;
 pub use settings::Settings;
 pub use solution::{Control, Iterate, Solution};
 
+use std::sync::Arc;
+
 use crate::counters::{Counters, Instant, IterationRecord};
+use crate::distribution::Distribution;
 use crate::error::{LopinError, Result};
 use crate::factor::CholeskyFactor;
 use crate::linear_stage::LinearWork;
@@ -37,6 +44,7 @@ use crate::operator_classes::{factor_classes, Classes};
 use crate::par;
 use crate::parameter::Parameter;
 use crate::problem::Problem;
+use crate::ranks::Ranks;
 use crate::search_direction;
 use crate::state::InterfaceState;
 use linear::{LinearStage, SingleScale};
@@ -50,8 +58,10 @@ pub struct Solver {
     settings: Settings,
     /// Substructures sharing one factorization of S.
     classes: Classes,
-    /// One factorization per class.
-    factors: Vec<CholeskyFactor>,
+    /// One factorization per class (None: a class with no substructure on this rank).
+    factors: Vec<Option<CholeskyFactor>>,
+    /// Which rank holds which substructure and interface (everything on one rank by default).
+    distribution: Distribution,
     /// The linear stage the settings ask for, with its buffers.
     linear: LinearStage,
     /// A macro problem built for the current k, kept while the single-scale stage runs so that
@@ -65,15 +75,41 @@ impl Solver {
     /// trapezoidal rule, [`crate::time_scheme`]) once per class of identical
     /// substructures ([`crate::operator_classes`]), and the macro problem if the settings ask
     /// for the two-scale linear stage.
-    pub fn new(mut problem: Problem, settings: Settings) -> Result<Self> {
+    pub fn new(problem: Problem, settings: Settings) -> Result<Self> {
+        Self::on_ranks(problem, settings, None)
+    }
+
+    /// The solver of one rank of a distributed run: the substructures are dealt to the ranks
+    /// ([`crate::distribution::deal`]), and this rank factorizes and marches only its own. Every
+    /// rank must make it, with the same problem and settings. Anderson acceleration, which
+    /// mixes all substructures' histories, is refused on more than one rank.
+    pub fn new_distributed(
+        problem: Problem,
+        settings: Settings,
+        ranks: Arc<dyn Ranks>,
+    ) -> Result<Self> {
+        Self::on_ranks(problem, settings, Some(ranks))
+    }
+
+    fn on_ranks(
+        mut problem: Problem,
+        settings: Settings,
+        ranks: Option<Arc<dyn Ranks>>,
+    ) -> Result<Self> {
         settings.validate_for(&problem)?;
         let start = Instant::now();
         search_direction::apply(&mut problem, settings.directions);
         let classes = factor_classes(&problem.subs);
-        let factors = factorize(&problem, &classes, settings.k)?;
-        let works = make_works(&problem, &classes, &factors);
+        let distribution = match ranks {
+            None => Distribution::single(&problem),
+            Some(r) => Distribution::new(&problem, &classes.of, r)
+                .map_err(|reason| LopinError::setting("ranks", reason))?,
+        };
+        check_distributable(&settings, &distribution)?;
+        let factors = factorize(&problem, &classes, settings.k, &distribution)?;
+        let works = make_works(&problem, &classes, &factors, &distribution);
         let linear = if settings.two_scale {
-            let mp = MacroProblem::new(&problem, settings.k, &classes, &factors)?;
+            let mp = MacroProblem::new(&problem, settings.k, &classes, &factors, &distribution)?;
             LinearStage::TwoScale(Box::new(TwoScale::new(works, mp)))
         } else {
             LinearStage::SingleScale(SingleScale::new(works))
@@ -85,10 +121,16 @@ impl Solver {
             settings,
             classes,
             factors,
+            distribution,
             linear,
             spare_macro: None,
             counters,
         })
+    }
+
+    /// Which rank holds which substructure.
+    pub fn distribution(&self) -> &Distribution {
+        &self.distribution
     }
 
     /// The problem.
@@ -106,6 +148,7 @@ impl Solver {
     /// On an error the solver keeps its previous settings.
     pub fn set_settings(&mut self, settings: Settings) -> Result<()> {
         settings.validate_for(&self.problem)?;
+        check_distributable(&settings, &self.distribution)?;
         let start = Instant::now();
         if settings.directions != self.settings.directions {
             // the classes of identical operators may split or merge with the direction
@@ -158,8 +201,13 @@ impl Solver {
     /// the single-scale linear stage on the new factors (the macro problem, built on the old
     /// ones, is dropped). On an error nothing changes.
     fn refactorize(&mut self, k: f64) -> Result<()> {
-        self.factors = factorize(&self.problem, &self.classes, k)?;
-        let works = make_works(&self.problem, &self.classes, &self.factors);
+        self.factors = factorize(&self.problem, &self.classes, k, &self.distribution)?;
+        let works = make_works(
+            &self.problem,
+            &self.classes,
+            &self.factors,
+            &self.distribution,
+        );
         self.linear = LinearStage::SingleScale(SingleScale::new(works));
         self.spare_macro = None;
         self.settings.two_scale = false;
@@ -179,6 +227,7 @@ impl Solver {
                 k,
                 &self.classes,
                 &self.factors,
+                &self.distribution,
             )?),
             (false, _) => None,
         };
@@ -210,14 +259,28 @@ impl Solver {
         &self.counters
     }
 
-    /// The distinct factorizations of S (one per class of identical substructures).
-    pub fn factors(&self) -> &[CholeskyFactor] {
-        &self.factors
+    /// The distinct factorizations of S held on this rank (one per class of identical
+    /// substructures with a substructure here; every class on one machine).
+    pub fn factors(&self) -> Vec<&CholeskyFactor> {
+        self.factors.iter().flatten().collect()
+    }
+
+    /// The factorizations held on this rank with their class index.
+    pub fn class_factors(&self) -> impl Iterator<Item = (usize, &CholeskyFactor)> {
+        self.factors
+            .iter()
+            .enumerate()
+            .filter_map(|(c, f)| Some((c, f.as_ref()?)))
     }
 
     /// The factorization of substructure `i`'s operator S.
+    ///
+    /// # Panics
+    /// If substructure `i` is held by another rank of a distributed run.
     pub fn factor(&self, i: usize) -> &CholeskyFactor {
-        &self.factors[self.classes.of[i]]
+        self.factors[self.classes.of[i]]
+            .as_ref()
+            .unwrap_or_else(|| panic!("substructure {i} is held by another rank"))
     }
 
     /// Which substructures share a factorization.
@@ -261,29 +324,61 @@ impl Solver {
     }
 }
 
-/// Factorizes S of every class representative.
-fn factorize(problem: &Problem, classes: &Classes, k: f64) -> Result<Vec<CholeskyFactor>> {
+/// Refuses settings a distributed run cannot honour.
+fn check_distributable(settings: &Settings, distribution: &Distribution) -> Result<()> {
+    if settings.anderson > 0 && !distribution.is_single() {
+        return Err(LopinError::setting(
+            "anderson",
+            "Anderson acceleration mixes the histories of all substructures and runs on one \
+             rank only: use plain relaxation (anderson = 0) or one rank",
+        ));
+    }
+    Ok(())
+}
+
+/// Factorizes S of the representative of every class with a substructure on this rank.
+fn factorize(
+    problem: &Problem,
+    classes: &Classes,
+    k: f64,
+    distribution: &Distribution,
+) -> Result<Vec<Option<CholeskyFactor>>> {
     let time = problem.step_coefficients();
+    let mut needed = vec![false; classes.count()];
+    for (i, &c) in classes.of.iter().enumerate() {
+        needed[c] |= distribution.holds_sub(i);
+    }
     par::map_range(classes.count(), |c| {
+        if !needed[c] {
+            return Ok(None);
+        }
         let sub = &problem.subs[classes.representatives[c]];
-        CholeskyFactor::new(sub.ndof(), &sub.operator_triplets(&time, k)).map_err(|reason| {
-            LopinError::Factorization {
+        CholeskyFactor::new(sub.ndof(), &sub.operator_triplets(&time, k))
+            .map(Some)
+            .map_err(|reason| LopinError::Factorization {
                 sub: sub.name.clone(),
                 reason,
-            }
-        })
+            })
     })
     .into_iter()
     .collect()
 }
 
-/// Scratch buffers of every substructure's linear stage.
-fn make_works(problem: &Problem, classes: &Classes, factors: &[CholeskyFactor]) -> Vec<LinearWork> {
+/// Scratch buffers of every substructure's linear stage (none for those on other ranks).
+fn make_works(
+    problem: &Problem,
+    classes: &Classes,
+    factors: &[Option<CholeskyFactor>],
+    distribution: &Distribution,
+) -> Vec<LinearWork> {
     let time = problem.step_coefficients();
     problem
         .subs
         .iter()
         .enumerate()
-        .map(|(i, s)| LinearWork::new(s, &factors[classes.of[i]], &time))
+        .map(|(i, s)| match &factors[classes.of[i]] {
+            Some(f) if distribution.holds_sub(i) => LinearWork::new(s, f, &time),
+            _ => LinearWork::idle(),
+        })
         .collect()
 }

@@ -70,6 +70,19 @@ enum Command {
 
 /// Runs the chosen subcommand.
 pub fn dispatch(cli: Cli) -> anyhow::Result<std::process::ExitCode> {
+    if let Some(r) = crate::ranks::current() {
+        let distributed = matches!(
+            cli.command,
+            Some(Command::Run(_) | Command::Sweep(_) | Command::Estimate(_))
+        );
+        if !distributed {
+            crate::ranks::agree::<()>(Err(anyhow::anyhow!(
+                "this command runs on one rank ({} ranks started): under mpirun, use `lopin \
+                 run`, `lopin sweep` or `lopin estimate`",
+                r.size()
+            )))?;
+        }
+    }
     match cli.command {
         Some(Command::View(args)) => view::view(&args),
         Some(Command::Run(args)) => run::run(&args),

@@ -1,6 +1,8 @@
 //! `lopin run`: one solve with a progress bar, then a summary table or one JSON object; with
 //! `--out`, `--vtu`, `--rerun`/`--rerun-connect`, the run directory, the ParaView files and the
-//! Rerun recording (see [`super::outputs`]).
+//! Rerun recording (see [`super::outputs`]). Under `mpirun` every rank solves its part; rank 0
+//! prints, records and writes the run directory, every rank writes the ParaView files of its
+//! substructures.
 
 use std::process::ExitCode;
 
@@ -31,16 +33,25 @@ pub struct RunArgs {
 
 pub fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     let start = Instant::now();
-    args.outputs.check_paths()?;
+    crate::ranks::agree(args.outputs.check_paths())?;
     let mut prepared = prepare(&args.scene)?;
     let spec = &prepared.spec;
     let solver = &mut prepared.solver;
-    let mut recorder = args
-        .outputs
-        .rerun
-        .open(&spec.name, &describe("run", spec, solver, ""))?;
+    let root = crate::ranks::is_root();
+    let mut recorder = crate::ranks::agree(if root {
+        args.outputs
+            .rerun
+            .open(&spec.name, &describe("run", spec, solver, ""))
+    } else {
+        Ok(None)
+    })?;
+    let recording = solver.distribution().any(recorder.is_some());
     let max_iter = solver.settings().max_iter as u64;
-    let bar = ProgressBar::new(max_iter);
+    let bar = if root {
+        ProgressBar::new(max_iter)
+    } else {
+        ProgressBar::hidden()
+    };
     bar.set_style(
         ProgressStyle::with_template("{spinner} iteration {pos} [{elapsed_precise}] {msg}")
             .unwrap_or_else(|_| ProgressStyle::default_spinner()),
@@ -70,7 +81,7 @@ pub fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     // outputs: fields replayed once for VTU and the recording
     let t_out = Instant::now();
     let mut written = Written::default();
-    let history = if args.outputs.vtu.is_some() || recorder.is_some() {
+    let mut history = if args.outputs.vtu.is_some() || recording {
         post::history(solver, &solution)
     } else {
         Vec::new()
@@ -82,6 +93,10 @@ pub fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
             files: e.files,
             bytes: e.bytes,
         });
+    }
+    if recording {
+        // distributed: the recording is written on rank 0 from every rank's fields
+        post::gather_history(solver, &mut history);
     }
     if let Some(mut rec) = recorder.take() {
         let steps = rec.solution(
@@ -114,6 +129,9 @@ pub fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         eta_history: solution.eta_history.clone(),
     });
     record.set_timings(solver, start.elapsed().as_secs_f64(), outputs_s);
+    if !root {
+        return Ok(exit_code(solution.converged));
+    }
     if let Some(dir) = &args.outputs.out {
         std::fs::create_dir_all(dir)
             .with_context(|| format!("--out {}: creating the folder", dir.display()))?;
@@ -144,11 +162,16 @@ pub fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         }
         print!("{rows}");
     }
-    Ok(if solution.converged {
+    Ok(exit_code(solution.converged))
+}
+
+/// 0 for a converged run, 1 otherwise.
+fn exit_code(converged: bool) -> ExitCode {
+    if converged {
         ExitCode::SUCCESS
     } else {
         ExitCode::from(1)
-    })
+    }
 }
 
 /// `lopin run --json`: the run's report and, when any was written, its outputs.

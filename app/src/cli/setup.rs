@@ -294,20 +294,29 @@ pub fn build_admitted(
 
 /// Loads, builds and factorizes. A large problem (over 200,000 dofs or 1 GiB) gets its memory
 /// estimate printed on stderr before the factorization, and its time estimate after.
+///
+/// Under `mpirun` ([`crate::ranks`]) every rank builds the problem description and makes the
+/// solver of its rank, which factorizes only its substructures; an error on any rank ends every
+/// rank, reported once.
 pub fn prepare(args: &SceneArgs) -> anyhow::Result<Prepared> {
-    let built = build(args)?;
+    let built = crate::ranks::agree(build(args))?;
     let counted = &built.footprint;
-    let large = counted.dofs > 200_000 || counted.total_bytes() > 1 << 30;
+    let root = crate::ranks::is_root();
+    let large = root && (counted.dofs > 200_000 || counted.total_bytes() > 1 << 30);
     if large {
         for line in counted.lines() {
             eprintln!("estimate: {line}");
         }
     }
     let source = scene::source_label(&args.scene);
-    let mut solver = Solver::new(built.problem, built.settings)
-        .with_context(|| format!("{source}: setting up the solver"))?;
+    let solver = match crate::ranks::current() {
+        None => Solver::new(built.problem, built.settings),
+        Some(r) => Solver::new_distributed(built.problem, built.settings, r),
+    };
+    let mut solver =
+        crate::ranks::agree(solver.with_context(|| format!("{source}: setting up the solver")))?;
     solver.add_setup_time(built.build_s);
-    if large {
+    if large && solver.distribution().is_single() {
         for line in Estimate::of_solver(&solver).lines().iter().skip(1) {
             eprintln!("estimate: {line}");
         }

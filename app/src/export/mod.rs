@@ -23,7 +23,9 @@ pub struct VtuExport {
 }
 
 /// Writes `dir/<substructure>_<step>.vtu` for every substructure and step m = 0..=N, and
-/// `dir/run.pvd`; `history` is [`lopin_core::post::history`] of the solution.
+/// `dir/run.pvd`; `history` is [`lopin_core::post::history`] of the solution. In a distributed
+/// run every rank calls it: each writes its substructures' files, rank 0 the .pvd, and the
+/// sizes are summed over the ranks.
 pub fn write_vtu(
     dir: &Path,
     solver: &Solver,
@@ -32,20 +34,24 @@ pub fn write_vtu(
     use anyhow::Context;
     std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     let p = solver.problem();
+    let dist = solver.distribution();
     let mut entries = Vec::new();
     let mut bytes = 0;
     for m in 0..=p.time.steps {
         for (i, s) in p.subs.iter().enumerate() {
             let file = format!("{}_{m:05}.vtu", entity_name(&s.name));
-            let path = dir.join(&file);
-            vtu::write(
-                solver,
-                i,
-                &history[i][m],
-                &history[i][m.saturating_sub(1)],
-                &path,
-            )?;
-            bytes += std::fs::metadata(&path).map_or(0, |md| md.len());
+            // distributed: each rank writes its own substructures
+            if dist.holds_sub(i) {
+                let path = dir.join(&file);
+                vtu::write(
+                    solver,
+                    i,
+                    &history[i][m],
+                    &history[i][m.saturating_sub(1)],
+                    &path,
+                )?;
+                bytes += std::fs::metadata(&path).map_or(0, |md| md.len());
+            }
             entries.push(pvd::Entry {
                 time: p.time.time(m),
                 part: i,
@@ -53,9 +59,14 @@ pub fn write_vtu(
             });
         }
     }
-    let pvd_path = dir.join(PVD_NAME);
-    pvd::write(&pvd_path, &entries)?;
-    bytes += std::fs::metadata(&pvd_path).map_or(0, |md| md.len());
+    if dist.rank() == 0 {
+        let pvd_path = dir.join(PVD_NAME);
+        pvd::write(&pvd_path, &entries)?;
+        bytes += std::fs::metadata(&pvd_path).map_or(0, |md| md.len());
+    }
+    let mut total = [bytes as f64];
+    dist.all_sum(&mut total);
+    let bytes = total[0] as u64;
     Ok(VtuExport {
         files: entries.len(),
         bytes,

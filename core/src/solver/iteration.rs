@@ -20,11 +20,18 @@
 //!    the next window, a cold one starting from a prediction out of the converged steps
 //!    ([`Settings::window_start`], [`crate::window_start`]); a non-finite η or the iteration
 //!    limit ends the solve unconverged.
+//!
+//! In a distributed run ([`crate::distribution`]) the same stages run on every rank over what it
+//! holds: the local stage on its interfaces, after receiving s of the other ranks' sides and
+//! before sending back their ŝ; the linear stage and the relaxation on its substructures; the
+//! η sums gathered, so that every rank takes the same decisions. [`Solver::finish`] gathers the
+//! solution onto every rank.
 
 use super::linear::{LinearOutcome, LinearStage, Operators};
 use super::{non_finite, Control, Iterate, Settings, Solution, Solver};
 use crate::acceleration::Anderson;
 use crate::counters::{Instant, IterationRecord};
+use crate::distribution::Distribution;
 use crate::error::Result;
 use crate::indicator::{smooth_sums, IndicatorSums, StopTest, WindowNorm};
 use crate::interface::Law;
@@ -173,13 +180,23 @@ impl Solver {
         let sub_states = p
             .subs
             .iter()
-            .map(|s| SubState::initial(s, &p.step_coefficients()))
+            .enumerate()
+            .map(|(i, s)| {
+                if self.distribution.holds_sub(i) {
+                    SubState::initial(s, &p.step_coefficients())
+                } else {
+                    SubState::default()
+                }
+            })
             .collect();
         let contact_start: Vec<Option<ContactRunning>> = p
             .interfaces
             .iter()
-            .map(|i| match &i.law {
-                Law::Contact(c) => Some(ContactRunning::initial(i, c, &s)),
+            .enumerate()
+            .map(|(n, i)| match &i.law {
+                Law::Contact(c) if self.distribution.holds_interface(n) => {
+                    Some(ContactRunning::initial(i, c, &s))
+                }
                 _ => None,
             })
             .collect();
@@ -228,16 +245,17 @@ impl Solver {
         run.it += 1;
         run.iterations += 1;
         let t_local = Instant::now();
-        run.local_stage(&self.problem, set.k);
+        run.local_stage(&self.problem, set.k, &self.distribution);
         let local_s = t_local.elapsed().as_secs_f64();
         let t_linear = Instant::now();
         let ops = Operators {
             subs: &self.problem.subs,
             classes: &self.classes,
             factors: &self.factors,
+            distribution: &self.distribution,
         };
         let outcome = run.linear_stage(&self.problem, &mut self.linear, ops, &set);
-        run.indicator(outcome.sums, &self.problem, set.k);
+        run.indicator(outcome.sums, &self.problem, set.k, &self.distribution);
         if !run.eta.is_finite() {
             // the first non-finite value stops the solve where it appeared
             run.failure = Some(non_finite::describe(
@@ -252,7 +270,7 @@ impl Solver {
             run.done = true;
             return true;
         }
-        run.relaxation(&self.problem, set.k, set.mu);
+        run.relaxation(&self.problem, set.k, set.mu, &self.distribution);
         let linear_s = t_linear.elapsed().as_secs_f64();
         let record = IterationRecord {
             iteration: run.iterations,
@@ -273,16 +291,20 @@ impl Solver {
             hats: &run.hats,
             eta_history: &run.eta_history,
         };
-        if observer(&iterate) == Control::Stop {
+        let stop = observer(&iterate) == Control::Stop;
+        if self.distribution.any(stop) {
             run.cancel();
             return true;
         }
-        run.end_of_window(&self.linear, &set)
+        run.end_of_window(&self.linear, &set, &self.distribution)
     }
 
     /// The solution a run reached (converged, or the newest iterate of an unconverged or
-    /// cancelled one).
-    pub fn finish(&self, run: SolveRun) -> Solution {
+    /// cancelled one). In a distributed run every rank calls it and receives the whole
+    /// solution.
+    pub fn finish(&self, mut run: SolveRun) -> Solution {
+        self.distribution.gather_state(&mut run.s);
+        self.distribution.gather_hats(&mut run.hats);
         Solution {
             state: run.s,
             hats: run.hats,
@@ -299,7 +321,10 @@ impl Solver {
 impl SolveRun {
     /// Stage 1, local stage (E+, METHOD §5): ŝ of every interface side over the window from s,
     /// in parallel over interfaces; contact laws march in time from the window's start state.
-    pub(crate) fn local_stage(&mut self, problem: &Problem, k: f64) {
+    /// Distributed: on this rank's interfaces, between the two exchanges of cut sides.
+    pub(crate) fn local_stage(&mut self, problem: &Problem, k: f64, distribution: &Distribution) {
+        let steps = (self.m0, self.m1);
+        distribution.send_traces(&mut self.s, steps);
         let input = LocalInput {
             s: &self.s,
             k,
@@ -310,8 +335,12 @@ impl SolveRun {
         let starts = &self.contact_start;
         let interfaces = &problem.interfaces;
         self.contact_end = par::map_mut(&mut self.hats, |i, hat| {
+            if !distribution.holds_interface(i) {
+                return None;
+            }
             local_stage(&interfaces[i], &input, hat, starts[i].as_ref())
         });
+        distribution.send_hats(&mut self.hats, steps);
     }
 
     /// Stage 2, linear stage (E−, METHOD §4 or §9 as `linear` is): s_new over the window from ŝ,
@@ -340,21 +369,43 @@ impl SolveRun {
 
     /// Stage 3, error indicator (METHOD §6–7): η of the window from its sums and the norm carried
     /// from the finished windows; η̄ likewise from the step averages of s_new and ŝ.
-    pub(crate) fn indicator(&mut self, window: IndicatorSums, problem: &Problem, k: f64) {
+    pub(crate) fn indicator(
+        &mut self,
+        window: IndicatorSums,
+        problem: &Problem,
+        k: f64,
+        distribution: &Distribution,
+    ) {
         self.eta = self.norm.eta(window, (self.m0, self.m1));
         self.eta_history.push(self.eta);
         let steps = (self.m0, self.m1);
-        self.window_smooth = smooth_sums(&problem.interfaces, k, &self.s_new, &self.hats, steps);
+        self.window_smooth = smooth_sums(
+            &problem.interfaces,
+            k,
+            &self.s_new,
+            &self.hats,
+            steps,
+            distribution,
+        );
         self.eta_smooth = self.norm_smooth.eta(self.window_smooth, steps);
     }
 
     /// Stage 4, relaxation (METHOD §6): s ← μ s_new + (1 − μ) s on the window's steps, with
     /// μ = 1 at the window's first iteration.
-    pub(crate) fn relaxation(&mut self, problem: &Problem, k: f64, mu: f64) {
+    /// Distributed: on this rank's substructures (Anderson runs on one rank only).
+    pub(crate) fn relaxation(
+        &mut self,
+        problem: &Problem,
+        k: f64,
+        mu: f64,
+        distribution: &Distribution,
+    ) {
         let mu = if self.it == 1 { 1.0 } else { mu };
         let steps = (self.m0, self.m1);
         match &mut self.anderson {
-            None => relax(&mut self.s, &self.s_new, mu, steps),
+            None => relax(&mut self.s, &self.s_new, mu, steps, &|i| {
+                distribution.holds_sub(i)
+            }),
             Some((acc, weights)) => {
                 if self.it == 1 {
                     acc.reset();
@@ -373,7 +424,12 @@ impl SolveRun {
     /// cold next window starts from a prediction out of the converged steps
     /// ([`crate::window_start`]), and an unconverged
     /// window ends the solve. Returns whether the solve has ended.
-    pub(crate) fn end_of_window(&mut self, linear: &LinearStage, settings: &Settings) -> bool {
+    pub(crate) fn end_of_window(
+        &mut self,
+        linear: &LinearStage,
+        settings: &Settings,
+        distribution: &Distribution,
+    ) -> bool {
         let tested = match settings.stop {
             StopTest::Eta => self.eta,
             StopTest::Smooth => self.eta_smooth,
@@ -408,7 +464,10 @@ impl SolveRun {
         if !self.warm {
             // a cold window starts from a prediction out of the converged steps before it
             let start = settings.window_start.resolve(settings.tol);
-            for h in &mut self.s.subs {
+            for (i, h) in self.s.subs.iter_mut().enumerate() {
+                if !distribution.holds_sub(i) {
+                    continue;
+                }
                 let steps = (self.m0, self.m1);
                 start.fill(&mut h.f, h.len, steps);
                 start.fill(&mut h.w, h.len, steps);
@@ -464,9 +523,18 @@ fn unflatten(s: &mut InterfaceState, x: &[f64], (m0, m1): (usize, usize)) {
     }
 }
 
-/// s ← μ s_new + (1 − μ) s on steps m0..=m1.
-fn relax(s: &mut InterfaceState, s_new: &InterfaceState, mu: f64, (m0, m1): (usize, usize)) {
-    for (h, hn) in s.subs.iter_mut().zip(&s_new.subs) {
+/// s ← μ s_new + (1 − μ) s on steps m0..=m1, for the substructures `held` says.
+fn relax(
+    s: &mut InterfaceState,
+    s_new: &InterfaceState,
+    mu: f64,
+    (m0, m1): (usize, usize),
+    held: &dyn Fn(usize) -> bool,
+) {
+    for (i, (h, hn)) in s.subs.iter_mut().zip(&s_new.subs).enumerate() {
+        if !held(i) {
+            continue;
+        }
         let r = m0 * h.len..(m1 + 1) * h.len;
         for (x, y) in h.f[r.clone()].iter_mut().zip(&hn.f[r.clone()]) {
             *x = mu * y + (1.0 - mu) * *x;
@@ -494,7 +562,7 @@ mod tests {
         };
         let mut s = state(1.0, -2.0);
         let s_new = state(3.0, 4.0);
-        relax(&mut s, &s_new, 0.8, (2, 3));
+        relax(&mut s, &s_new, 0.8, (2, 3), &|_| true);
         let h = &s.subs[0];
         for m in 0..=4 {
             let r = h.at(m);
@@ -513,7 +581,7 @@ mod tests {
             );
         }
         // μ = 1 takes the new fields
-        relax(&mut s, &s_new, 1.0, (1, 4));
+        relax(&mut s, &s_new, 1.0, (1, 4), &|_| true);
         assert_eq!(s.subs[0].f[2..], s_new.subs[0].f[2..]);
         assert_eq!(s.subs[0].w[2..], s_new.subs[0].w[2..]);
     }

@@ -7,10 +7,13 @@
 //! - [`TwoScale`] (METHOD §9): all substructures in lock-step with one macro solve per step.
 //!
 //! Both hold one [`LinearWork`] per substructure, allocated once with the factorizations, and
-//! return the window's η sums (METHOD §6) with what was skipped and the macro time.
+//! return the window's η sums (METHOD §6) with what was skipped and the macro time. In a
+//! distributed run each rank marches only its substructures ([`crate::distribution`]) and the
+//! per-substructure sums are gathered and added in index order, as on one machine.
 
 use super::skip_cache::SkipCache;
 use super::two_scale::TwoScale;
+use crate::distribution::Distribution;
 use crate::factor::CholeskyFactor;
 use crate::indicator::IndicatorSums;
 use crate::linear_stage::{linear_stage, LinearInput, LinearWork, SubState};
@@ -27,14 +30,18 @@ pub(crate) struct Operators<'a> {
     pub subs: &'a [Substructure],
     /// Which factorization each substructure uses.
     pub classes: &'a Classes,
-    /// One factorization of S per class.
-    pub factors: &'a [CholeskyFactor],
+    /// One factorization of S per class with a substructure on this rank.
+    pub factors: &'a [Option<CholeskyFactor>],
+    /// Which rank holds which substructure.
+    pub distribution: &'a Distribution,
 }
 
 impl Operators<'_> {
-    /// The factorization of substructure `i`'s S.
+    /// The factorization of substructure `i`'s S (a substructure of this rank).
     pub fn factor(&self, i: usize) -> &CholeskyFactor {
-        &self.factors[self.classes.of[i]]
+        self.factors[self.classes.of[i]]
+            .as_ref()
+            .unwrap_or_else(|| panic!("substructure {i} is held by another rank"))
     }
 }
 
@@ -146,6 +153,9 @@ impl SingleScale {
         out: &mut [TraceHistory],
     ) -> LinearOutcome {
         par::for_each_zip_mut(&mut self.subs, out, |i, b, out| {
+            if !ops.distribution.holds_sub(i) {
+                return;
+            }
             let sub = &ops.subs[i];
             if whole {
                 if let Some(sums) = b.skip.replay(sub, lin.hats, &mut b.work, out) {
@@ -163,11 +173,24 @@ impl SingleScale {
                 b.skip.clear();
             }
         });
-        let mut outcome = LinearOutcome::default();
-        for b in &self.subs {
-            outcome.sums.add(b.sums);
-            outcome.skipped += usize::from(b.skipped);
+        let dist = ops.distribution;
+        let held = |i: usize| dist.holds_sub(i);
+        let mut skipped = [self
+            .subs
+            .iter()
+            .enumerate()
+            .filter(|&(i, b)| held(i) && b.skipped)
+            .count() as f64];
+        dist.all_sum(&mut skipped);
+        LinearOutcome {
+            sums: dist.gathered_sums(
+                self.subs
+                    .iter()
+                    .enumerate()
+                    .map(|(i, b)| held(i).then_some(b.sums)),
+            ),
+            skipped: skipped[0] as usize,
+            macro_s: 0.0,
         }
-        outcome
     }
 }

@@ -9,7 +9,10 @@
 //!
 //! After step 4 the macro forces balance on every internal interface: Êᵀ A F_E + Êᵀ A F_E' = 0.
 //! [`TwoScale`] owns the macro problem and every buffer the steps use, allocated once when the
-//! variant is made; a window allocates nothing.
+//! variant is made; a window allocates only its η sums. In a distributed run each rank marches
+//! its substructures; b is summed over the ranks (each macro dof has the two sides of its
+//! interface as its only contributions, so the sum is exact), and every rank solves the same
+//! replicated macro problem.
 
 use super::linear::{LinearOutcome, Operators};
 use crate::counters::Instant;
@@ -102,10 +105,17 @@ impl TwoScale {
             buf.work.state.clone_from(start);
         }
         let mut outcome = LinearOutcome::default();
+        let dist = ops.distribution;
         let (m0, m1) = lin.steps;
+        // η sums per step and substructure, added in that order after the window
+        let mut step_sums: Vec<Option<IndicatorSums>> =
+            Vec::with_capacity((m1 + 1 - m0) * subs.len());
         for m in m0..=m1 {
             // 1. micro solves and macro forces of F¹
             par::for_each_mut(subs, |i, buf| {
+                if !dist.holds_sub(i) {
+                    return;
+                }
                 let sub = &ops.subs[i];
                 predict(sub, ops.factor(i), &mut buf.work, lin, m);
                 trial_force(sub, &buf.work, lin.k, &mut buf.trace);
@@ -115,16 +125,22 @@ impl TwoScale {
             // 2.–3. macro right-hand side and solve
             let t = Instant::now();
             b.iter_mut().for_each(|x| *x = 0.0);
-            for (buf, global) in subs.iter().zip(&mp.global) {
-                for (&g, &r) in global.iter().zip(&buf.macro_local) {
-                    b[g] -= r;
+            for (i, (buf, global)) in subs.iter().zip(&mp.global).enumerate() {
+                if dist.holds_sub(i) {
+                    for (&g, &r) in global.iter().zip(&buf.macro_local) {
+                        b[g] -= r;
+                    }
                 }
             }
+            dist.all_sum(b);
             mp.solve_in_place(b, scratch);
             outcome.macro_s += t.elapsed().as_secs_f64();
             // 4. correction
             let (mp, alpha) = (&*mp, &*b);
             par::for_each_zip_mut(subs, out, |i, buf, out| {
+                if !dist.holds_sub(i) {
+                    return;
+                }
                 let sub = &ops.subs[i];
                 for (a, &g) in buf.macro_local.iter_mut().zip(&mp.global[i]) {
                     *a = alpha[g];
@@ -137,8 +153,13 @@ impl TwoScale {
                 };
                 buf.sums = complete(sub, &mut buf.work, lin, m, out, Some(correction));
             });
-            subs.iter().for_each(|buf| outcome.sums.add(buf.sums));
+            step_sums.extend(
+                subs.iter()
+                    .enumerate()
+                    .map(|(i, buf)| dist.holds_sub(i).then_some(buf.sums)),
+            );
         }
+        outcome.sums = dist.gathered_sums(step_sums.into_iter());
         outcome
     }
 }

@@ -1,0 +1,436 @@
+//! Which rank holds which part of a distributed LATIN solve, and the messages of one iteration
+//! (issue 18; METHOD §11 "Parallelism"). A substructure is held by one rank
+//! ([`crate::rank_assignment`]: METIS on the substructure graph where the `partition` feature is
+//! on, else contiguous runs of equal dofs); an interface by the rank of its first side. A rank
+//! factorizes, marches and relaxes only its substructures (METHOD §4, §6) and runs the local
+//! stage (METHOD §5) only on its interfaces, so per iteration two point-to-point exchanges
+//! carry everything that crosses between ranks:
+//!
+//! - before the local stage, s = (F, W) of every side whose substructure lies on another rank
+//!   than its interface, over the window's steps ([`Distribution::send_traces`]);
+//! - after it, ŝ of those sides back to the substructure's rank ([`Distribution::send_hats`]).
+//!
+//! Sums (η, η̄, the macro right-hand side of METHOD §9) go through [`Ranks::all_sum`] with one
+//! non-zero contribution per entry and rank ([`crate::ranks`]), so every rank reaches the same
+//! η and the same decisions as the run on one machine, bit for bit.
+
+use std::sync::Arc;
+
+use crate::indicator::IndicatorSums;
+use crate::interface::Interface;
+use crate::problem::Problem;
+use crate::ranks::{OneRank, Ranks};
+use crate::state::{InterfaceState, TraceHistory};
+
+/// One interface side whose substructure and interface lie on different ranks.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct CutSide {
+    interface: usize,
+    side: usize,
+    sub: usize,
+    /// Offset of the side in the substructure's trace.
+    offset: usize,
+    /// Trace entries of the side.
+    len: usize,
+}
+
+/// The cut sides between this rank and one other, in (interface, side) order.
+#[derive(Debug, Clone, PartialEq, Eq)]
+struct Neighbour {
+    rank: usize,
+    /// Sides of this rank's substructures on the other rank's interfaces.
+    subs_here: Vec<CutSide>,
+    /// Sides of the other rank's substructures on this rank's interfaces.
+    interfaces_here: Vec<CutSide>,
+}
+
+/// The ranks of a solve and what each holds.
+#[derive(Debug, Clone)]
+pub struct Distribution {
+    ranks: Arc<dyn Ranks>,
+    /// Rank of every substructure.
+    sub_rank: Vec<usize>,
+    /// Rank of every interface (that of its first side's substructure).
+    interface_rank: Vec<usize>,
+    neighbours: Vec<Neighbour>,
+}
+
+impl Distribution {
+    /// Everything on one rank (the run on one machine).
+    pub fn single(problem: &Problem) -> Self {
+        Self::single_for(problem.subs.len(), &problem.interfaces)
+    }
+
+    /// Everything on one rank, for `subs` substructures and these interfaces.
+    pub fn single_for(subs: usize, interfaces: &[Interface]) -> Self {
+        Self::with_ranks_of(interfaces, Arc::new(OneRank), vec![0; subs])
+    }
+
+    /// The substructures of `problem` dealt to `ranks` by [`deal`].
+    pub fn new(
+        problem: &Problem,
+        class_of: &[usize],
+        ranks: Arc<dyn Ranks>,
+    ) -> Result<Self, String> {
+        // every rank checks (the same refusals everywhere), rank 0's deal is the one used
+        let mine = deal(problem, class_of, ranks.size());
+        let n = problem.subs.len();
+        let mut shared = vec![0.0; n + 1];
+        if ranks.rank() == 0 {
+            match &mine {
+                Ok(r) => shared[..n]
+                    .iter_mut()
+                    .zip(r)
+                    .for_each(|(x, &r)| *x = r as f64),
+                Err(_) => shared[n] = 1.0,
+            }
+        }
+        ranks.all_sum(&mut shared);
+        if shared[n] > 0.0 {
+            return Err(mine.err().unwrap_or_else(|| {
+                "rank 0 could not deal the substructures to the ranks".to_string()
+            }));
+        }
+        let sub_rank = shared[..n].iter().map(|&x| x as usize).collect();
+        Ok(Self::with_ranks_of(&problem.interfaces, ranks, sub_rank))
+    }
+
+    /// Substructure i on rank `sub_rank[i]`.
+    pub fn with_ranks_of(
+        interfaces: &[Interface],
+        ranks: Arc<dyn Ranks>,
+        sub_rank: Vec<usize>,
+    ) -> Self {
+        let me = ranks.rank();
+        let interface_rank: Vec<usize> = interfaces
+            .iter()
+            .map(|i| sub_rank[i.sides[0].sub])
+            .collect();
+        let mut neighbours: Vec<Neighbour> = (0..ranks.size())
+            .map(|rank| Neighbour {
+                rank,
+                subs_here: Vec::new(),
+                interfaces_here: Vec::new(),
+            })
+            .collect();
+        for (i, iface) in interfaces.iter().enumerate() {
+            for (j, side) in iface.sides.iter().enumerate() {
+                let (at_sub, at_iface) = (sub_rank[side.sub], interface_rank[i]);
+                if at_sub == at_iface {
+                    continue;
+                }
+                let cut = CutSide {
+                    interface: i,
+                    side: j,
+                    sub: side.sub,
+                    offset: side.offset,
+                    len: iface.len,
+                };
+                if at_sub == me {
+                    neighbours[at_iface].subs_here.push(cut);
+                } else if at_iface == me {
+                    neighbours[at_sub].interfaces_here.push(cut);
+                }
+            }
+        }
+        neighbours.retain(|n| !n.subs_here.is_empty() || !n.interfaces_here.is_empty());
+        Self {
+            ranks,
+            sub_rank,
+            interface_rank,
+            neighbours,
+        }
+    }
+
+    /// The communication between ranks.
+    pub fn ranks(&self) -> &dyn Ranks {
+        &*self.ranks
+    }
+
+    /// This rank.
+    pub fn rank(&self) -> usize {
+        self.ranks.rank()
+    }
+
+    /// Number of ranks.
+    pub fn size(&self) -> usize {
+        self.ranks.size()
+    }
+
+    /// Whether everything is on this one rank.
+    pub fn is_single(&self) -> bool {
+        self.ranks.size() == 1
+    }
+
+    /// Rank of every substructure.
+    pub fn sub_ranks(&self) -> &[usize] {
+        &self.sub_rank
+    }
+
+    /// Whether this rank holds substructure `i`.
+    pub fn holds_sub(&self, i: usize) -> bool {
+        self.sub_rank[i] == self.ranks.rank()
+    }
+
+    /// Whether this rank holds interface `i` (runs its local stage).
+    pub fn holds_interface(&self, i: usize) -> bool {
+        self.interface_rank[i] == self.ranks.rank()
+    }
+
+    /// Ranks this one exchanges trace fields with.
+    pub fn neighbour_count(&self) -> usize {
+        self.neighbours.len()
+    }
+
+    /// Values this rank sends per iteration over a window of `steps` steps (both exchanges).
+    pub fn values_sent(&self, steps: usize) -> usize {
+        let per_step: usize = self
+            .neighbours
+            .iter()
+            .flat_map(|n| n.subs_here.iter().chain(&n.interfaces_here))
+            .map(|c| 2 * c.len)
+            .sum();
+        per_step * steps
+    }
+
+    /// Before the local stage: s of steps m0..=m1 of every cut side, from the substructure's
+    /// rank into the interface rank's copy of `s`.
+    pub fn send_traces(&self, s: &mut InterfaceState, (m0, m1): (usize, usize)) {
+        if self.is_single() {
+            return;
+        }
+        let pack = |cuts: &[CutSide]| {
+            let mut out = Vec::new();
+            for c in cuts {
+                let h = &s.subs[c.sub];
+                for m in m0..=m1 {
+                    let r = h.at(m).start + c.offset..h.at(m).start + c.offset + c.len;
+                    out.extend_from_slice(&h.f[r.clone()]);
+                    out.extend_from_slice(&h.w[r]);
+                }
+            }
+            out
+        };
+        let send: Vec<(usize, Vec<f64>)> = self
+            .neighbours
+            .iter()
+            .filter(|n| !n.subs_here.is_empty())
+            .map(|n| (n.rank, pack(&n.subs_here)))
+            .collect();
+        let receive = self.receive_list(|n| &n.interfaces_here, m1 + 1 - m0);
+        let got = self.ranks.exchange(&send, &receive);
+        let from = self
+            .neighbours
+            .iter()
+            .filter(|n| !n.interfaces_here.is_empty());
+        for (n, data) in from.zip(got) {
+            let mut at = 0;
+            for c in &n.interfaces_here {
+                let h = &mut s.subs[c.sub];
+                for m in m0..=m1 {
+                    let start = h.at(m).start + c.offset;
+                    h.f[start..start + c.len].copy_from_slice(&data[at..at + c.len]);
+                    at += c.len;
+                    h.w[start..start + c.len].copy_from_slice(&data[at..at + c.len]);
+                    at += c.len;
+                }
+            }
+        }
+    }
+
+    /// After the local stage: ŝ of steps m0..=m1 of every cut side, from the interface's rank
+    /// into the substructure rank's copy of `hats`.
+    pub fn send_hats(&self, hats: &mut [Vec<TraceHistory>], (m0, m1): (usize, usize)) {
+        if self.is_single() {
+            return;
+        }
+        let pack = |cuts: &[CutSide]| {
+            let mut out = Vec::new();
+            for c in cuts {
+                let h = &hats[c.interface][c.side];
+                for m in m0..=m1 {
+                    out.extend_from_slice(&h.f[h.at(m)]);
+                    out.extend_from_slice(&h.w[h.at(m)]);
+                }
+            }
+            out
+        };
+        let send: Vec<(usize, Vec<f64>)> = self
+            .neighbours
+            .iter()
+            .filter(|n| !n.interfaces_here.is_empty())
+            .map(|n| (n.rank, pack(&n.interfaces_here)))
+            .collect();
+        let receive = self.receive_list(|n| &n.subs_here, m1 + 1 - m0);
+        let got = self.ranks.exchange(&send, &receive);
+        let from = self.neighbours.iter().filter(|n| !n.subs_here.is_empty());
+        for (n, data) in from.zip(got) {
+            let mut at = 0;
+            for c in &n.subs_here {
+                let h = &mut hats[c.interface][c.side];
+                for m in m0..=m1 {
+                    let r = h.at(m);
+                    h.f[r.clone()].copy_from_slice(&data[at..at + c.len]);
+                    at += c.len;
+                    h.w[r].copy_from_slice(&data[at..at + c.len]);
+                    at += c.len;
+                }
+            }
+        }
+    }
+
+    /// (rank, values) of the messages this rank receives, for cut sides chosen by `which`.
+    fn receive_list(
+        &self,
+        which: impl Fn(&Neighbour) -> &Vec<CutSide>,
+        steps: usize,
+    ) -> Vec<(usize, usize)> {
+        self.neighbours
+            .iter()
+            .filter(|n| !which(n).is_empty())
+            .map(|n| (n.rank, which(n).iter().map(|c| 2 * c.len * steps).sum()))
+            .collect()
+    }
+
+    /// `values` ← the sum over the ranks (exact where each entry has at most two non-zero
+    /// contributions, [`crate::ranks`]).
+    pub fn all_sum(&self, values: &mut [f64]) {
+        if !self.is_single() {
+            self.ranks.all_sum(values);
+        }
+    }
+
+    /// η sums computed one per item on the rank that holds it (None elsewhere), summed over the
+    /// ranks and added in item order: the same total on every rank and on one machine.
+    pub fn gathered_sums(
+        &self,
+        items: impl Iterator<Item = Option<IndicatorSums>>,
+    ) -> IndicatorSums {
+        let mut flat: Vec<f64> = items
+            .flat_map(|s| {
+                let s = s.unwrap_or_default();
+                [s.num, s.den]
+            })
+            .collect();
+        self.all_sum(&mut flat);
+        let mut total = IndicatorSums::default();
+        for pair in flat.chunks_exact(2) {
+            total.add(IndicatorSums {
+                num: pair[0],
+                den: pair[1],
+            });
+        }
+        total
+    }
+
+    /// Whether any rank passes `flag` true.
+    pub fn any(&self, flag: bool) -> bool {
+        if self.is_single() {
+            flag
+        } else {
+            crate::ranks::any(&*self.ranks, flag)
+        }
+    }
+
+    /// Makes the traces of every substructure complete on every rank: each rank keeps the
+    /// histories of its substructures and receives the others'.
+    pub fn gather_state(&self, s: &mut InterfaceState) {
+        if self.is_single() {
+            return;
+        }
+        let held: Vec<bool> = (0..s.subs.len()).map(|i| self.holds_sub(i)).collect();
+        self.gather_histories(s.subs.iter_mut().zip(held));
+    }
+
+    /// Makes ŝ of every interface complete on every rank (each from its interface's rank).
+    pub fn gather_hats(&self, hats: &mut [Vec<TraceHistory>]) {
+        if self.is_single() {
+            return;
+        }
+        let held: Vec<bool> = (0..hats.len()).map(|i| self.holds_interface(i)).collect();
+        self.gather_histories(
+            hats.iter_mut()
+                .zip(held)
+                .flat_map(|(sides, h)| sides.iter_mut().map(move |s| (s, h))),
+        );
+    }
+
+    /// Zeroes the histories not held here, sums them over the ranks in pieces of bounded size.
+    fn gather_histories<'a>(&self, histories: impl Iterator<Item = (&'a mut TraceHistory, bool)>) {
+        const PIECE: usize = 1 << 22;
+        let mut fields: Vec<&mut [f64]> = Vec::new();
+        for (h, held) in histories {
+            if !held {
+                h.f.iter_mut().for_each(|x| *x = 0.0);
+                h.w.iter_mut().for_each(|x| *x = 0.0);
+            }
+            fields.push(&mut h.f);
+            fields.push(&mut h.w);
+        }
+        let mut buffer = Vec::with_capacity(PIECE);
+        let mut group: Vec<&mut [f64]> = Vec::new();
+        let flush = |buffer: &mut Vec<f64>, group: &mut Vec<&mut [f64]>| {
+            self.ranks.all_sum(buffer);
+            let mut at = 0;
+            for f in group.drain(..) {
+                f.copy_from_slice(&buffer[at..at + f.len()]);
+                at += f.len();
+            }
+            buffer.clear();
+        };
+        for f in fields {
+            if !group.is_empty() && buffer.len() + f.len() > PIECE {
+                flush(&mut buffer, &mut group);
+            }
+            buffer.extend_from_slice(f);
+            group.push(f);
+        }
+        if !group.is_empty() {
+            flush(&mut buffer, &mut group);
+        }
+    }
+}
+
+/// The rank of every substructure of `problem` among `ranks`: METIS on the substructure graph
+/// ([`crate::rank_assignment`]) where the `partition` feature is on, else contiguous runs of
+/// about equal dofs. The reason when it cannot (more ranks than substructures).
+pub fn deal(problem: &Problem, class_of: &[usize], ranks: usize) -> Result<Vec<usize>, String> {
+    #[cfg(feature = "partition")]
+    {
+        crate::rank_assignment::assign(problem, class_of, ranks).map(|a| a.rank_of)
+    }
+    #[cfg(not(feature = "partition"))]
+    {
+        let _ = class_of;
+        let n = problem.subs.len();
+        if ranks == 0 || ranks > n {
+            return Err(format!(
+                "{ranks} ranks for {n} substructures: at least one and at most one rank per \
+                 substructure"
+            ));
+        }
+        let total: usize = problem.subs.iter().map(|s| s.ndof()).sum();
+        let mut out = Vec::with_capacity(n);
+        let mut before = 0;
+        let mut previous = 0;
+        for (i, s) in problem.subs.iter().enumerate() {
+            // by the dofs before the middle of this substructure, one rank after another, and
+            // never leaving a rank empty
+            let middle = before + s.ndof() / 2;
+            let by_dofs = middle * ranks / total.max(1);
+            let lowest = ranks.saturating_sub(n - i);
+            let r = if i == 0 {
+                0
+            } else {
+                by_dofs
+                    .clamp(previous, previous + 1)
+                    .max(lowest)
+                    .min(ranks - 1)
+            };
+            out.push(r);
+            previous = r;
+            before += s.ndof();
+        }
+        Ok(out)
+    }
+}

@@ -1,0 +1,157 @@
+//! Distributed runs (issue 18, `core/src/distribution.rs`, `core/src/ranks.rs`) on ranks that
+//! are threads of this process (`core/src/thread_ranks.rs`): the same scene solved on 1, 2, 3
+//! and 4 ranks takes the same number of iterations, reaches the same η and gives the same
+//! interface fields (F, W) and ŝ, bit for bit, as the solver on one machine: on
+//! `two-blocks --split 2` (the whole interval and one-step windows), on `granular-small`
+//! single- and two-scale, and over a 3-value friction sweep with warm starts. The energy
+//! balance of the gathered solution equals the one-machine balance too. The same comparison
+//! runs under `mpirun` in `app/tests/mpi.rs`.
+
+use std::sync::Arc;
+
+use lopin_core::post;
+use lopin_core::ranks::Ranks;
+use lopin_core::scene::{self, SceneSpec};
+use lopin_core::{thread_ranks, Parameter, Settings, Solution, Solver};
+
+fn spec(name: &str, split: usize) -> SceneSpec {
+    let mut spec = scene::registry::builtin(name).expect("scene");
+    if split > 1 {
+        spec.split(split).expect("split");
+    }
+    spec
+}
+
+/// Solves `spec` on `ranks` thread ranks (None: the plain solver) for every value of the
+/// friction in `friction` (warm-starting each from the previous), and returns rank 0's
+/// solutions with the energy of the last one.
+fn solve_on(
+    spec: &SceneSpec,
+    ranks: Option<usize>,
+    tweak: &(dyn Fn(&mut Settings) + Sync),
+    friction: &[f64],
+) -> (Vec<Solution>, f64) {
+    let problem = scene::build::build(spec, &spec.name).expect("builds");
+    let mut settings = Settings::for_problem(&problem, &spec.solver);
+    tweak(&mut settings);
+    let sweep = |mut solver: Solver| {
+        let mut out: Vec<Solution> = Vec::new();
+        for &f in friction {
+            solver
+                .set_parameter(Parameter::Friction, f)
+                .expect("friction");
+            let start = out.last().map(|s| s.state.clone());
+            out.push(solver.solve(start.as_ref()).expect("solve"));
+        }
+        let last = out.last().expect("a value");
+        let e = post::energy(&solver, last);
+        let n = e.kinetic.len() - 1;
+        (out, e.kinetic[n] + e.strain[n] - e.input_work[n])
+    };
+    match ranks {
+        None => sweep(Solver::new(problem, settings).expect("solver")),
+        Some(p) => {
+            let mut all = thread_ranks::run(p, |r| {
+                let r: Arc<dyn Ranks> = r;
+                sweep(Solver::new_distributed(problem.clone(), settings, r).expect("solver"))
+            });
+            // every rank holds the whole solution
+            let first = all.remove(0);
+            for other in &all {
+                assert_eq!(other.0.len(), first.0.len());
+                for (a, b) in other.0.iter().zip(&first.0) {
+                    assert_eq!(a.state, b.state, "ranks disagree on the state");
+                    assert_eq!(a.iterations, b.iterations);
+                }
+            }
+            first
+        }
+    }
+}
+
+fn same_as_one_machine(
+    label: &str,
+    spec: &SceneSpec,
+    tweak: &(dyn Fn(&mut Settings) + Sync),
+    friction: &[f64],
+) {
+    let (serial, energy) = solve_on(spec, None, tweak, friction);
+    for p in 1..=4 {
+        let (dist, e) = solve_on(spec, Some(p), tweak, friction);
+        for (v, (a, b)) in dist.iter().zip(&serial).enumerate() {
+            assert!(a.converged && b.converged, "{label}, {p} ranks, value {v}");
+            assert_eq!(a.iterations, b.iterations, "{label}, {p} ranks, value {v}");
+            assert_eq!(a.eta.to_bits(), b.eta.to_bits(), "{label}, {p} ranks");
+            assert_eq!(a.eta_history, b.eta_history, "{label}, {p} ranks");
+            assert_eq!(a.state, b.state, "{label}, {p} ranks: s differs");
+            assert_eq!(a.hats, b.hats, "{label}, {p} ranks: ŝ differs");
+        }
+        assert_eq!(e.to_bits(), energy.to_bits(), "{label}, {p} ranks: energy");
+        println!(
+            "{label}: {p} ranks, iterations {:?}, bit-identical",
+            dist.iter().map(|s| s.iterations).collect::<Vec<_>>()
+        );
+    }
+}
+
+#[test]
+fn two_blocks_split_in_two_is_the_same_on_one_to_four_ranks() {
+    let spec = spec("two-blocks", 2);
+    same_as_one_machine(
+        "two-blocks --split 2, whole interval",
+        &spec,
+        &|s| s.window = None,
+        &[0.3],
+    );
+    same_as_one_machine(
+        "two-blocks --split 2, one-step windows",
+        &spec,
+        &|s| s.window = Some(1),
+        &[0.3],
+    );
+}
+
+#[test]
+fn granular_small_single_and_two_scale_is_the_same_on_one_to_four_ranks() {
+    let spec = spec("granular-small", 1);
+    same_as_one_machine("granular-small", &spec, &|s| s.two_scale = false, &[0.3]);
+    same_as_one_machine(
+        "granular-small two-scale",
+        &spec,
+        &|s| s.two_scale = true,
+        &[0.3],
+    );
+}
+
+#[test]
+fn a_three_value_sweep_is_the_same_on_one_to_four_ranks() {
+    let spec = spec("two-blocks", 2);
+    same_as_one_machine("sweep on f", &spec, &|_| {}, &[0.1, 0.3, 0.5]);
+}
+
+#[test]
+fn anderson_and_too_many_ranks_are_refused_on_every_rank() {
+    let spec = spec("two-blocks", 1);
+    let problem = scene::build::build(&spec, &spec.name).expect("builds");
+    let mut settings = Settings::for_problem(&problem, &spec.solver);
+    let n = problem.subs.len();
+    let errors = thread_ranks::run(n + 1, |r| {
+        let r: Arc<dyn Ranks> = r;
+        Solver::new_distributed(problem.clone(), settings, r)
+            .expect_err("more ranks than substructures")
+            .to_string()
+    });
+    for e in errors {
+        assert!(e.contains("at most one rank per substructure"), "{e}");
+    }
+    settings.anderson = 3;
+    let errors = thread_ranks::run(2, |r| {
+        let r: Arc<dyn Ranks> = r;
+        Solver::new_distributed(problem.clone(), settings, r)
+            .expect_err("Anderson on two ranks")
+            .to_string()
+    });
+    for e in errors {
+        assert!(e.contains("anderson"), "{e}");
+    }
+}
