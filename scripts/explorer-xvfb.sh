@@ -12,7 +12,8 @@ cd "$(dirname "$0")/.."
 mode="${1:-smoke}"
 scene="${2:-}"
 mkdir -p out
-cargo build --release -q -p lopin
+# shellcheck disable=SC2086  # LOPIN_FEATURES holds several arguments (CI: the mpi feature)
+cargo build --release -q -p lopin ${LOPIN_FEATURES:-}
 bin=target/release/lopin
 
 display=:97

@@ -27,7 +27,7 @@ export LOPIN_FUZZ_BUDGET_SECONDS="${LOPIN_FUZZ_BUDGET_SECONDS:-$budget}"
 
 targets=(
     "-p lopin-tests --test fuzz_scenes"
-    "-p lopin --test fuzz_cli"
+    "-p lopin ${LOPIN_FEATURES:-} --test fuzz_cli"
 )
 
 for t in "${targets[@]}"; do

@@ -8,12 +8,15 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ./scripts/install-gui-deps.sh
+./scripts/install-mpi.sh
 gmsh="$(./scripts/install-gmsh.sh)"
 if [ -n "$gmsh" ]; then export LOPIN_GMSH="$gmsh"; fi
 readers="$(./scripts/install-readers.sh)"
 export LOPIN_PYTHON="$readers/python" LOPIN_RERUN="$readers/rerun"
 export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-$(mktemp -d)}"
 chmod 700 "$XDG_RUNTIME_DIR"
-cargo test --release --workspace
+# the `mpi` feature on: its tests run the binary under mpirun (app/tests/mpi.rs)
+export LOPIN_FEATURES="--features lopin/mpi"
+cargo test --release --workspace $LOPIN_FEATURES
 ./scripts/explorer-xvfb.sh smoke
 ./scripts/test-web.sh

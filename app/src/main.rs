@@ -24,7 +24,10 @@ fn main() -> std::process::ExitCode {
         Err(e) => {
             match ranks::current() {
                 None => eprintln!("error: {e:#}"),
-                Some(r) => eprintln!("error (rank {} of {}): {e:#}", r.rank(), r.size()),
+                Some(r) if r.rank() > 0 => {
+                    eprintln!("error (rank {} of {}): {e:#}", r.rank(), r.size())
+                }
+                Some(_) => eprintln!("error: {e:#}"),
             }
             std::process::ExitCode::from(2)
         }

@@ -32,7 +32,7 @@ use std::collections::VecDeque;
 use crate::dense::solve_spd;
 
 /// The mixing history of one window.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct Anderson {
     depth: usize,
     last: Option<(Vec<f64>, Vec<f64>)>,

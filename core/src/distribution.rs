@@ -308,8 +308,8 @@ impl Distribution {
     ) -> IndicatorSums {
         let mut flat: Vec<f64> = items
             .flat_map(|s| {
-                let s = s.unwrap_or_default();
-                [s.num, s.den]
+                // −0: the neutral element of the sum over the ranks ([`crate::ranks`])
+                s.map_or([-0.0, -0.0], |s| [s.num, s.den])
             })
             .collect();
         self.all_sum(&mut flat);
@@ -355,35 +355,38 @@ impl Distribution {
         );
     }
 
-    /// Zeroes the histories not held here, sums them over the ranks in pieces of bounded size.
+    /// Sets the histories not held here to −0 (the neutral element, [`crate::ranks`]) and sums them over the ranks in pieces of bounded
+    /// size; the held ones keep their own values (a sum with zeros would turn −0 into +0).
     fn gather_histories<'a>(&self, histories: impl Iterator<Item = (&'a mut TraceHistory, bool)>) {
         const PIECE: usize = 1 << 22;
-        let mut fields: Vec<&mut [f64]> = Vec::new();
+        let mut fields: Vec<(&mut [f64], bool)> = Vec::new();
         for (h, held) in histories {
             if !held {
-                h.f.iter_mut().for_each(|x| *x = 0.0);
-                h.w.iter_mut().for_each(|x| *x = 0.0);
+                h.f.iter_mut().for_each(|x| *x = -0.0);
+                h.w.iter_mut().for_each(|x| *x = -0.0);
             }
-            fields.push(&mut h.f);
-            fields.push(&mut h.w);
+            fields.push((&mut h.f, held));
+            fields.push((&mut h.w, held));
         }
         let mut buffer = Vec::with_capacity(PIECE);
-        let mut group: Vec<&mut [f64]> = Vec::new();
-        let flush = |buffer: &mut Vec<f64>, group: &mut Vec<&mut [f64]>| {
+        let mut group: Vec<(&mut [f64], bool)> = Vec::new();
+        let flush = |buffer: &mut Vec<f64>, group: &mut Vec<(&mut [f64], bool)>| {
             self.ranks.all_sum(buffer);
             let mut at = 0;
-            for f in group.drain(..) {
-                f.copy_from_slice(&buffer[at..at + f.len()]);
+            for (f, held) in group.drain(..) {
+                if !held {
+                    f.copy_from_slice(&buffer[at..at + f.len()]);
+                }
                 at += f.len();
             }
             buffer.clear();
         };
-        for f in fields {
+        for (f, held) in fields {
             if !group.is_empty() && buffer.len() + f.len() > PIECE {
                 flush(&mut buffer, &mut group);
             }
             buffer.extend_from_slice(f);
-            group.push(f);
+            group.push((f, held));
         }
         if !group.is_empty() {
             flush(&mut buffer, &mut group);

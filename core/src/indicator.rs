@@ -71,7 +71,7 @@ pub fn smooth_sums(
 }
 
 /// Numerator and denominator sums of η² (METHOD §6) over some dofs and steps.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct IndicatorSums {
     /// Σ A [(F − F̂)²/k + k (W − Ŵ)²].
     pub num: f64,
@@ -106,7 +106,7 @@ impl IndicatorSums {
 }
 
 /// The denominator carried from the finished windows of a solve (METHOD §7).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct WindowNorm {
     /// Scale the finished windows' energy to the current window's length (true) or add it whole
     /// (false, METHOD §7 as written).

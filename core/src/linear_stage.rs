@@ -25,7 +25,7 @@ use crate::time_scheme::StepCoefficients;
 
 /// Kinematic state (u, v, a) of a substructure at one step (empty for a substructure held by
 /// another rank of a distributed run).
-#[derive(Debug, Clone, PartialEq, Default)]
+#[derive(Debug, Clone, PartialEq, Default, serde::Serialize, serde::Deserialize)]
 pub struct SubState {
     /// Displacement.
     pub u: Vec<f64>,

@@ -10,7 +10,7 @@ use crate::time_scheme::StepCoefficients;
 
 /// Running contact state carried from step to step: gap ĝ, normal jump [Ŵ_n] and, for a
 /// dissipative scheme, the normal acceleration jump its displacement update needs, per node.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ContactRunning {
     /// ĝ per node.
     pub gap: Vec<f64>,

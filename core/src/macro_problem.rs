@@ -273,7 +273,7 @@ fn share_operators(
         if from_here {
             flat.extend_from_slice(&h.l);
         } else {
-            flat.extend(std::iter::repeat_n(0.0, n));
+            flat.extend(std::iter::repeat_n(-0.0, n));
         }
     }
     distribution.all_sum(&mut flat);

@@ -213,7 +213,8 @@ pub fn energy(solver: &Solver, sol: &Solution) -> EnergyHistory {
     let dist = solver.distribution();
     let per_sub = par::map_range(p.subs.len(), |i| {
         if !dist.holds_sub(i) {
-            return (vec![0.0; n + 1], vec![0.0; n + 1], vec![0.0; n + 1]);
+            // −0: the neutral element of the sum over the ranks
+            return (vec![-0.0; n + 1], vec![-0.0; n + 1], vec![-0.0; n + 1]);
         }
         let sub = &p.subs[i];
         // boundary trace ranges of this substructure

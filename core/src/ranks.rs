@@ -4,11 +4,12 @@
 //! on one machine (every operation is the identity), the `lopin` binary's `mpi` feature
 //! implements it on MPI, and [`crate::thread_ranks`] on threads of one process (tests).
 //!
-//! Exactness: the solver only ever sums vectors in which every entry has at most two non-zero
+//! Exactness: the solver only ever sums vectors in which every entry has at most two
 //! contributions (a per-substructure quantity from the rank that holds the substructure; a
-//! macro dof from the two sides of its interface). Adding zeros is exact and two terms commute,
-//! so [`Ranks::all_sum`] gives the same bits in any reduction order, and a distributed run
-//! equals the run on one machine bit for bit.
+//! macro dof from the two sides of its interface), every other rank contributing −0, the
+//! neutral element of IEEE addition (x + (−0) = x for every x, +0 and −0 included; +0 would
+//! turn a −0 into +0). Two terms commute, so [`Ranks::all_sum`] gives the same bits in any
+//! reduction order, and a distributed run equals the run on one machine bit for bit.
 
 use std::fmt::Debug;
 

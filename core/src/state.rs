@@ -6,7 +6,7 @@ use crate::error::{LopinError, Result};
 use crate::problem::Problem;
 
 /// (F, W) of one trace (substructure trace or interface side) at every step m = 0..=N.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct TraceHistory {
     /// Entries per step.
     pub len: usize,
@@ -33,7 +33,7 @@ impl TraceHistory {
 }
 
 /// s = (F, W) for every substructure trace at every step: what a warm start restarts from.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct InterfaceState {
     /// Number of time steps N.
     pub steps: usize,

@@ -42,7 +42,8 @@ impl Ranks for ThreadRanks {
         if self.rank == 0 {
             let mut sum = lock(&s.sum);
             sum.clear();
-            sum.resize(values.len(), 0.0);
+            // −0, the neutral element of addition (+0 would turn −0 into +0)
+            sum.resize(values.len(), -0.0);
         }
         s.barrier.wait();
         {

@@ -3,6 +3,7 @@
 mod accuracy;
 mod accuracy_plot;
 mod bench;
+mod checkpoint;
 mod compare;
 mod estimate;
 mod export;

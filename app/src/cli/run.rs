@@ -13,6 +13,7 @@ use lopin_core::counters::Instant;
 use lopin_core::{post, scene, Control};
 use serde::Serialize;
 
+use super::checkpoint::{self, CheckpointArgs};
 use super::outputs::{describe, OutputArgs, FLUSH_TIMEOUT};
 use super::report::{Latin, RunReport, SolveReport};
 use super::setup::{prepare, SceneArgs};
@@ -26,6 +27,8 @@ pub struct RunArgs {
     pub scene: SceneArgs,
     #[command(flatten)]
     pub outputs: OutputArgs,
+    #[command(flatten)]
+    pub checkpoints: CheckpointArgs,
     /// Print one JSON object on stdout instead of the table.
     #[arg(long)]
     pub json: bool,
@@ -58,7 +61,14 @@ pub fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     );
     let tol = solver.settings().tol;
     let mut record_error = None;
-    let solution = solver.solve_with(None, &mut |r| {
+    let print = checkpoint::fingerprint_of(solver, crate::run_dir::fingerprint::of_scene(spec));
+    let cp = &args.checkpoints;
+    let mut run = crate::ranks::agree(match &cp.restart {
+        Some(dir) => checkpoint::load(dir, solver, print),
+        None => solver.begin(None).map_err(anyhow::Error::from),
+    })?;
+    let mut observer = |it: &lopin_core::Iterate<'_>| {
+        let r = it.record;
         bar.set_position(r.iteration as u64);
         bar.set_message(format!(
             "eta = {:.3e} (tol {tol:.0e}), steps {}..{}",
@@ -68,8 +78,23 @@ pub fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
             record_error = rec.iteration(r).err();
         }
         Control::Continue
-    });
+    };
+    while !solver.step(&mut run, &mut observer) {
+        if let Some(dir) = &cp.checkpoint {
+            if (run.iterations() as u64).is_multiple_of(cp.checkpoint_every) {
+                checkpoint::save(dir, solver, &run, print)?;
+            }
+        }
+        if cp.halt_after.is_some_and(|h| run.iterations() >= h) {
+            bar.finish_and_clear();
+            return Ok(ExitCode::from(3));
+        }
+    }
     bar.finish_and_clear();
+    let solution = match run.failure() {
+        Some(f) => Err(lopin_core::LopinError::NonFinite(f.to_string())),
+        None => Ok(solver.finish(run)),
+    };
     let solution =
         solution.with_context(|| format!("{}: solving", scene::source_label(&args.scene.scene)))?;
     if let Some(e) = record_error {

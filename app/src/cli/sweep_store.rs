@@ -211,6 +211,8 @@ pub struct Store {
     dir: PathBuf,
     /// The header's fingerprint: what every record and state must belong to.
     sweep_hash: Fingerprint,
+    /// Whether this process writes the folder (rank 0 of a distributed sweep, or the only one).
+    writes: bool,
 }
 
 impl Store {
@@ -227,6 +229,7 @@ impl Store {
         let store = Self {
             dir: dir.to_path_buf(),
             sweep_hash: header.fingerprint(),
+            writes: true,
         };
         let head = dir.join(SWEEP_JSON);
         if head.exists() {
@@ -386,6 +389,9 @@ impl Store {
     /// Writes a finished value: state first, then the record (the commit point), both bound
     /// to the sweep's header.
     pub fn save(&self, record: &ValueRecord, state: &InterfaceState) -> anyhow::Result<()> {
+        if !self.writes {
+            return Ok(());
+        }
         let bytes = encode_state(state, self.sweep_hash);
         self.write_atomic(&record.state_file, &bytes)?;
         let file = RecordFile {
@@ -399,6 +405,16 @@ impl Store {
             &record_name(record.index),
             checked_json::seal(&file)?.as_bytes(),
         )
+    }
+
+    /// The folder of `header` as another rank than rank 0 of a distributed sweep sees it: it
+    /// reads the records rank 0 checked (after rank 0 has opened the folder), and writes nothing.
+    pub fn follow(dir: &Path, header: &Header) -> Self {
+        Self {
+            dir: dir.to_path_buf(),
+            sweep_hash: header.fingerprint(),
+            writes: false,
+        }
     }
 
     /// Path of a file in the sweep directory.

@@ -44,7 +44,10 @@ use crate::state::{InterfaceState, TraceHistory};
 /// A solve between two iterations. Made by [`Solver::begin`], advanced by [`Solver::step`],
 /// turned into a [`Solution`] by [`Solver::finish`]; only meaningful with the solver (and the
 /// problem parameters) it was begun with.
-#[derive(Debug, Clone)]
+///
+/// It serializes whole (serde): a checkpoint of a long solve, which [`Solver::step`] continues
+/// from to the same result as the uninterrupted solve.
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct SolveRun {
     /// Whether it started from a given state (warm).
     warm: bool,
@@ -297,6 +300,27 @@ impl Solver {
             return true;
         }
         run.end_of_window(&self.linear, &set, &self.distribution)
+    }
+
+    /// Checks that a run restored from a checkpoint has the layout of this solver's problem
+    /// (steps, traces, interfaces, substructures).
+    pub fn check_restored(&self, run: &SolveRun) -> Result<()> {
+        let p = &self.problem;
+        run.s.check_fits(p)?;
+        run.s_new.check_fits(p)?;
+        if run.hats.len() != p.interfaces.len()
+            || run.sub_states.len() != p.subs.len()
+            || run.contact_start.len() != p.interfaces.len()
+        {
+            return Err(crate::error::LopinError::StateMismatch(format!(
+                "{} interfaces and {} substructures in the checkpoint, {} and {} in the problem",
+                run.hats.len(),
+                run.sub_states.len(),
+                p.interfaces.len(),
+                p.subs.len()
+            )));
+        }
+        Ok(())
     }
 
     /// The solution a run reached (converged, or the newest iterate of an unconverged or

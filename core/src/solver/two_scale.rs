@@ -124,7 +124,8 @@ impl TwoScale {
             });
             // 2.–3. macro right-hand side and solve
             let t = Instant::now();
-            b.iter_mut().for_each(|x| *x = 0.0);
+            // −0: b_g = −r_a − r_b exactly, on one rank or summed over two ([`crate::ranks`])
+            b.iter_mut().for_each(|x| *x = -0.0);
             for (i, (buf, global)) in subs.iter().zip(&mp.global).enumerate() {
                 if dist.holds_sub(i) {
                     for (&g, &r) in global.iter().zip(&buf.macro_local) {

@@ -62,8 +62,34 @@ pub struct SweepArgs {
 pub fn sweep(args: &SweepArgs) -> anyhow::Result<ExitCode> {
     let mut prepared = prepare(&args.scene.for_task(Task::Study))?;
     let plan = Plan::new(args, &mut prepared)?;
-    let store = Store::open(&plan.dir, &plan.header, &args.scene.scene, args.resume)?;
+    // distributed: rank 0 opens (and writes) the folder, then every rank reads what it holds
+    let store = crate::ranks::agree(if crate::ranks::is_root() {
+        Store::open(&plan.dir, &plan.header, &args.scene.scene, args.resume)
+    } else {
+        Ok(Store::follow(&plan.dir, &plan.header))
+    })?;
     let resumed = store.verify(plan.values.len(), prepared.solver.problem());
+    let finished = resumed.records.len() as f64;
+    let mut seen = [
+        finished,
+        if crate::ranks::is_root() {
+            finished
+        } else {
+            0.0
+        },
+    ];
+    prepared.solver.distribution().all_sum(&mut seen);
+    let ranks = prepared.solver.distribution().size() as f64;
+    crate::ranks::agree(if seen[0] == ranks * seen[1] {
+        Ok(())
+    } else {
+        Err(anyhow::anyhow!(
+            "{}: the ranks see different sweep folders (rank 0 finds {} finished values): --out \
+             must be on a file system every rank shares",
+            plan.dir.display(),
+            seen[1]
+        ))
+    })?;
     let records = values::solve(args, &plan, &mut prepared, &store, resumed)?;
     outputs::finish(args, &plan, &store, &records)?;
     Ok(if records.iter().all(|r| r.converged) {

@@ -31,6 +31,9 @@ impl<'a> RunJson<'a> {
 
     /// Writes run.json for the finished `records`.
     pub fn write(&mut self, records: &[ValueRecord], solver: &Solver) -> anyhow::Result<()> {
+        if !crate::ranks::is_root() {
+            return Ok(());
+        }
         let h = &self.plan.header;
         self.record.sweep = Some(SweepFacts {
             parameter: h.parameter.clone(),
@@ -160,13 +163,16 @@ impl<'a> SweepReport<'a> {
     }
 }
 
-/// The figures, then the table or the JSON object on stdout.
+/// The figures, then the table or the JSON object on stdout (rank 0 of a distributed sweep).
 pub fn finish(
     args: &SweepArgs,
     plan: &Plan,
     store: &Store,
     records: &[ValueRecord],
 ) -> anyhow::Result<()> {
+    if !crate::ranks::is_root() {
+        return Ok(());
+    }
     plot::convergence(&store.path("convergence.png"), records, plan.parameter)?;
     plot::quantities(&store.path("quantities.png"), records, plan.parameter)?;
     let report = SweepReport::new(plan, records);

@@ -31,7 +31,8 @@ pub fn solve(
         last_states: mut history,
         damage,
     } = resumed;
-    if let Some(d) = &damage {
+    let root = crate::ranks::is_root();
+    if let Some(d) = damage.as_ref().filter(|_| root) {
         let last = values.len().saturating_sub(1);
         eprintln!(
             "{}: {}: recomputing {}",
@@ -47,7 +48,10 @@ pub fn solve(
     let mut run_json = RunJson::new(args, plan, prepared);
     let solver = &mut prepared.solver;
     run_json.write(&records, solver)?;
-    let mut recorder = args.rerun.open(
+    let mut recorder = if !root {
+        None
+    } else {
+        args.rerun.open(
         &prepared.spec.name,
         &describe(
             "sweep",
@@ -62,7 +66,9 @@ pub fn solve(
                 header.predictor
             ),
         ),
-    )?;
+    )?
+    };
+    let recording = solver.distribution().any(recorder.is_some());
     if let Some(rec) = &recorder {
         // values finished before a resume: their quantities (their fields were not stored)
         for r in &records {
@@ -70,7 +76,7 @@ pub fn solve(
         }
     }
     // `history`: the converged states the predictor extrapolates from (the last two)
-    if !records.is_empty() || damage.is_some() {
+    if root && (!records.is_empty() || damage.is_some()) {
         eprintln!(
             "resuming {}: {} of {} values finished",
             plan.dir.display(),
@@ -78,7 +84,11 @@ pub fn solve(
             values.len()
         );
     }
-    let bar = ProgressBar::new(values.len() as u64);
+    let bar = if root {
+        ProgressBar::new(values.len() as u64)
+    } else {
+        ProgressBar::hidden()
+    };
     bar.set_style(
         ProgressStyle::with_template("{bar:30} {pos}/{len} {msg}")
             .unwrap_or_else(|_| ProgressStyle::default_bar()),
@@ -154,11 +164,16 @@ pub fn solve(
             state_file: state_name(index),
         };
         store.save(&record, &sol.state)?;
+        let mut fields = Vec::new();
+        if recording {
+            fields = post::history(solver, &sol);
+            post::gather_history(solver, &mut fields);
+        }
         if let Some(rec) = recorder.as_mut() {
             rec.solution(
                 solver,
                 &sol,
-                &post::history(solver, &sol),
+                &fields,
                 &[("parameter", index as i64)],
                 args.rerun.rerun_deform,
             )?;

@@ -1,0 +1,239 @@
+//! `lopin` under `mpirun` (feature `mpi`; issue 18): the same scene on 1, 2, 3 and 4 ranks
+//! (oversubscribed on a 2-core machine) takes the same iterations, reaches the same η (same
+//! bits) and writes the same solution file, byte for byte, as the run on one machine:
+//! `two-blocks --split 2`, `granular-small` single- and two-scale, and a 3-value friction sweep
+//! (its state files); a run restarted from a checkpoint writes the solution of the
+//! uninterrupted run; bad input ends every rank with one message; a rank that dies ends the job
+//! within seconds, and the job's output says which rank and where to restart.
+#![cfg(feature = "mpi")]
+
+use std::path::Path;
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+const LOPIN: &str = env!("CARGO_BIN_EXE_lopin");
+
+fn mpirun(ranks: usize, args: &[&str]) -> Command {
+    let mut c = Command::new("mpirun");
+    c.env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+        .env("OMPI_MCA_rmaps_base_oversubscribe", "1")
+        .args(["-np", &ranks.to_string(), LOPIN])
+        .args(args);
+    c
+}
+
+fn run(c: &mut Command) -> Output {
+    let out = c.output().expect("starts");
+    assert!(
+        out.status.success(),
+        "{c:?}: {}\n{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out
+}
+
+fn json(out: &Output) -> serde_json::Value {
+    serde_json::from_slice(&out.stdout).expect("one JSON object")
+}
+
+fn scratch(name: &str) -> std::path::PathBuf {
+    let d = std::env::temp_dir().join(format!("lopin-mpi-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    d
+}
+
+fn bytes(p: &Path) -> Vec<u8> {
+    std::fs::read(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
+}
+
+#[test]
+fn runs_equal_the_run_on_one_machine_on_one_to_four_ranks() {
+    let cases: [&[&str]; 3] = [
+        &["two-blocks", "--split", "2"],
+        &["granular-small", "--macro", "off"],
+        &["granular-small", "--macro", "on"],
+    ];
+    for case in cases {
+        let dir = scratch("one");
+        let one = dir.display().to_string();
+        let mut args: Vec<&str> = vec!["run"];
+        args.extend(case);
+        args.extend(["--json", "--out", &one]);
+        let serial = json(&run(Command::new(LOPIN).args(&args)));
+        for ranks in 1..=4 {
+            let d = scratch(&format!("np{ranks}"));
+            let out = d.display().to_string();
+            let mut a: Vec<&str> = vec!["run"];
+            a.extend(case);
+            a.extend(["--json", "--out", &out]);
+            let dist = json(&run(&mut mpirun(ranks, &a)));
+            assert_eq!(
+                dist["iterations"], serial["iterations"],
+                "{case:?} on {ranks}"
+            );
+            assert_eq!(dist["eta"], serial["eta"], "{case:?} on {ranks}");
+            assert!(
+                bytes(&d.join("solution.bin")) == bytes(&dir.join("solution.bin")),
+                "{case:?} on {ranks} ranks: the solution file differs"
+            );
+            println!(
+                "{case:?}: {ranks} ranks, {} iterations, eta {}, solution file identical",
+                dist["iterations"], dist["eta"]
+            );
+        }
+    }
+}
+
+#[test]
+fn a_sweep_equals_the_sweep_on_one_machine() {
+    let values = "f=0.1,0.3,0.5";
+    let one = scratch("sweep-one");
+    let o = one.display().to_string();
+    let args = [
+        "sweep",
+        "two-blocks",
+        "--split",
+        "2",
+        "--param",
+        values,
+        "--json",
+    ];
+    run(Command::new(LOPIN).args(args).args(["--out", &o]));
+    for ranks in [2, 3] {
+        let d = scratch(&format!("sweep-np{ranks}"));
+        let out = d.display().to_string();
+        let mut a = args.to_vec();
+        a.extend(["--out", &out]);
+        run(&mut mpirun(ranks, &a));
+        for v in 0..3 {
+            let f = format!("value-{v:03}.state");
+            assert_eq!(
+                bytes(&d.join(&f)),
+                bytes(&one.join(&f)),
+                "{f} on {ranks} ranks"
+            );
+        }
+    }
+}
+
+#[test]
+fn a_restart_from_a_checkpoint_equals_the_uninterrupted_run() {
+    let full = scratch("full");
+    let cp = scratch("checkpoint");
+    let re = scratch("restarted");
+    let (f, c, r) = (
+        full.display().to_string(),
+        cp.display().to_string(),
+        re.display().to_string(),
+    );
+    let base = ["run", "two-blocks", "--split", "2", "--json"];
+    let whole = json(&run(&mut mpirun(2, &[&base[..], &["--out", &f]].concat())));
+    // stopped at iteration 150, the last checkpoint at 100
+    let halted = mpirun(
+        2,
+        &[
+            &base[..],
+            &[
+                "--checkpoint",
+                &c,
+                "--checkpoint-every",
+                "50",
+                "--halt-after",
+                "150",
+            ],
+        ]
+        .concat(),
+    )
+    .output()
+    .expect("starts");
+    assert!(!halted.status.success());
+    assert!(String::from_utf8_lossy(&halted.stderr).contains("checkpoint: iteration 150"));
+    let again = json(&run(&mut mpirun(
+        2,
+        &[&base[..], &["--restart", &c, "--out", &r]].concat(),
+    )));
+    assert_eq!(again["iterations"], whole["iterations"]);
+    assert_eq!(again["eta"], whole["eta"]);
+    assert_eq!(
+        bytes(&re.join("solution.bin")),
+        bytes(&full.join("solution.bin"))
+    );
+    // another number of ranks is refused, naming the one to use
+    let wrong = mpirun(3, &[&base[..], &["--restart", &c]].concat())
+        .output()
+        .expect("starts");
+    let err = String::from_utf8_lossy(&wrong.stderr);
+    assert!(err.contains("restart with mpirun -np 2"), "{err}");
+}
+
+#[test]
+fn bad_input_ends_every_rank_with_one_message() {
+    let t = Instant::now();
+    let out = mpirun(3, &["run", "two-blocks", "--split", "2", "--tol", "-1"])
+        .output()
+        .expect("starts");
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    let ours: Vec<&str> = err.lines().filter(|l| l.starts_with("error")).collect();
+    assert_eq!(ours.len(), 1, "{err}");
+    assert!(ours[0].contains("tol"), "{err}");
+    assert!(t.elapsed() < Duration::from_secs(60));
+}
+
+#[test]
+fn a_rank_that_dies_ends_the_job_within_seconds() {
+    let cp = scratch("dies");
+    let c = cp.display().to_string();
+    let job = mpirun(
+        2,
+        &[
+            "run",
+            "granular-small",
+            "--checkpoint",
+            &c,
+            "--checkpoint-every",
+            "5",
+            "--max-iter",
+            "100000",
+            "--tol",
+            "1e-14",
+        ],
+    )
+    .stdout(Stdio::piped())
+    .stderr(Stdio::piped())
+    .spawn()
+    .expect("starts");
+    // wait for the first checkpoint, then kill rank 1
+    let t = Instant::now();
+    while !cp.join("checkpoint.json").exists() {
+        assert!(t.elapsed() < Duration::from_secs(120), "no checkpoint");
+        std::thread::sleep(Duration::from_millis(200));
+    }
+    let pids = Command::new("pgrep")
+        .args([
+            "-f",
+            &format!("^{LOPIN} run granular-small --checkpoint {c}"),
+        ])
+        .output()
+        .expect("pgrep");
+    let pids: Vec<String> = String::from_utf8_lossy(&pids.stdout)
+        .split_whitespace()
+        .map(String::from)
+        .collect();
+    assert!(pids.len() >= 2, "{pids:?}");
+    let killed = Instant::now();
+    Command::new("kill")
+        .args(["-9", &pids[1]])
+        .status()
+        .expect("kill");
+    let out = job.wait_with_output().expect("ends");
+    let ended = killed.elapsed();
+    assert!(!out.status.success());
+    assert!(ended < Duration::from_secs(30), "{ended:?}");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("rank"), "{err}");
+    assert!(err.contains(&format!("--restart {c}")), "{err}");
+    println!("the job ended {ended:?} after a rank was killed:\n{err}");
+}
