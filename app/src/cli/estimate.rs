@@ -37,6 +37,12 @@ pub struct EstimateArgs {
 }
 
 pub fn estimate(args: &EstimateArgs) -> anyhow::Result<std::process::ExitCode> {
+    // under mpirun: rank 0 answers for the ranks started (as `--ranks P`), the others wait
+    let world = crate::ranks::current();
+    if world.as_ref().is_some_and(|r| r.rank() > 0) {
+        return Ok(std::process::ExitCode::SUCCESS);
+    }
+    let wanted_ranks = args.ranks.or(world.map(|r| r.size()));
     // counted from the scene alone: answers at once however large, refuses what cannot fit
     let start = Instant::now();
     let counted = admitted(&args.scene)?;
@@ -71,8 +77,7 @@ pub fn estimate(args: &EstimateArgs) -> anyhow::Result<std::process::ExitCode> {
         .with_context(|| format!("{source}: setting up the solver"))?;
     let e = Estimate::of_solver(&solver);
     let window = built.windows.window.unwrap_or(solver.problem().time.steps);
-    let ranks = args
-        .ranks
+    let ranks = wanted_ranks
         .map(|p| {
             lopin_core::rank_assignment::assign(solver.problem(), &solver.classes().of, p)
                 .map_err(|r| anyhow::anyhow!("{source}: --ranks {p}: {r}"))
