@@ -177,58 +177,76 @@ impl Distribution {
         self.interface_rank[i] == self.ranks.rank()
     }
 
-    /// Ranks this one exchanges trace fields with.
-    pub fn neighbour_count(&self) -> usize {
-        self.neighbours.len()
-    }
-
-    /// Values this rank sends per iteration over a window of `steps` steps (both exchanges).
-    pub fn values_sent(&self, steps: usize) -> usize {
-        let per_step: usize = self
-            .neighbours
-            .iter()
-            .flat_map(|n| n.subs_here.iter().chain(&n.interfaces_here))
-            .map(|c| 2 * c.len)
-            .sum();
-        per_step * steps
-    }
-
     /// Before the local stage: s of steps m0..=m1 of every cut side, from the substructure's
     /// rank into the interface rank's copy of `s`.
-    pub fn send_traces(&self, s: &mut InterfaceState, (m0, m1): (usize, usize)) {
+    pub fn send_traces(&self, s: &mut InterfaceState, steps: (usize, usize)) {
+        self.transfer(
+            s,
+            steps,
+            |n| &n.subs_here,
+            |n| &n.interfaces_here,
+            |s, c| (&mut s.subs[c.sub], c.offset),
+        );
+    }
+
+    /// After the local stage: ŝ of steps m0..=m1 of every cut side, from the interface's rank
+    /// into the substructure rank's copy of `hats`.
+    pub fn send_hats(&self, hats: &mut [Vec<TraceHistory>], steps: (usize, usize)) {
+        self.transfer(
+            hats,
+            steps,
+            |n| &n.interfaces_here,
+            |n| &n.subs_here,
+            |h, c| (&mut h[c.interface][c.side], 0),
+        );
+    }
+
+    /// One exchange of (F, W) of steps m0..=m1 of cut sides: this rank sends the sides
+    /// `outgoing` lists and receives those `incoming` lists, each side's history and offset of
+    /// its entries in a step found in `x` by `side`.
+    fn transfer<X: ?Sized>(
+        &self,
+        x: &mut X,
+        (m0, m1): (usize, usize),
+        outgoing: impl Fn(&Neighbour) -> &Vec<CutSide>,
+        incoming: impl Fn(&Neighbour) -> &Vec<CutSide>,
+        side: impl for<'a> Fn(&'a mut X, &CutSide) -> (&'a mut TraceHistory, usize),
+    ) {
         if self.is_single() {
             return;
         }
-        let pack = |cuts: &[CutSide]| {
+        let mut send: Vec<(usize, Vec<f64>)> = Vec::new();
+        for n in self.neighbours.iter().filter(|n| !outgoing(n).is_empty()) {
             let mut out = Vec::new();
-            for c in cuts {
-                let h = &s.subs[c.sub];
+            for c in outgoing(n) {
+                let (h, offset) = side(x, c);
                 for m in m0..=m1 {
-                    let r = h.at(m).start + c.offset..h.at(m).start + c.offset + c.len;
+                    let r = h.at(m).start + offset..h.at(m).start + offset + c.len;
                     out.extend_from_slice(&h.f[r.clone()]);
                     out.extend_from_slice(&h.w[r]);
                 }
             }
-            out
-        };
-        let send: Vec<(usize, Vec<f64>)> = self
+            send.push((n.rank, out));
+        }
+        let from: Vec<&Neighbour> = self
             .neighbours
             .iter()
-            .filter(|n| !n.subs_here.is_empty())
-            .map(|n| (n.rank, pack(&n.subs_here)))
+            .filter(|n| !incoming(n).is_empty())
             .collect();
-        let receive = self.receive_list(|n| &n.interfaces_here, m1 + 1 - m0);
-        let got = self.ranks.exchange(&send, &receive);
-        let from = self
-            .neighbours
+        let receive: Vec<(usize, usize)> = from
             .iter()
-            .filter(|n| !n.interfaces_here.is_empty());
-        for (n, data) in from.zip(got) {
+            .map(|n| {
+                let values = incoming(n).iter().map(|c| 2 * c.len).sum::<usize>();
+                (n.rank, values * (m1 + 1 - m0))
+            })
+            .collect();
+        let got = self.ranks.exchange(&send, &receive);
+        for (n, data) in from.into_iter().zip(got) {
             let mut at = 0;
-            for c in &n.interfaces_here {
-                let h = &mut s.subs[c.sub];
+            for c in incoming(n) {
+                let (h, offset) = side(x, c);
                 for m in m0..=m1 {
-                    let start = h.at(m).start + c.offset;
+                    let start = h.at(m).start + offset;
                     h.f[start..start + c.len].copy_from_slice(&data[at..at + c.len]);
                     at += c.len;
                     h.w[start..start + c.len].copy_from_slice(&data[at..at + c.len]);
@@ -238,58 +256,14 @@ impl Distribution {
         }
     }
 
-    /// After the local stage: ŝ of steps m0..=m1 of every cut side, from the interface's rank
-    /// into the substructure rank's copy of `hats`.
-    pub fn send_hats(&self, hats: &mut [Vec<TraceHistory>], (m0, m1): (usize, usize)) {
-        if self.is_single() {
-            return;
+    /// Whether this rank holds a member of each of the `count` classes of `class_of` (the
+    /// classes whose operators it computes).
+    pub fn holds_classes(&self, class_of: &[usize], count: usize) -> Vec<bool> {
+        let mut held = vec![false; count];
+        for (i, &c) in class_of.iter().enumerate() {
+            held[c] |= self.holds_sub(i);
         }
-        let pack = |cuts: &[CutSide]| {
-            let mut out = Vec::new();
-            for c in cuts {
-                let h = &hats[c.interface][c.side];
-                for m in m0..=m1 {
-                    out.extend_from_slice(&h.f[h.at(m)]);
-                    out.extend_from_slice(&h.w[h.at(m)]);
-                }
-            }
-            out
-        };
-        let send: Vec<(usize, Vec<f64>)> = self
-            .neighbours
-            .iter()
-            .filter(|n| !n.interfaces_here.is_empty())
-            .map(|n| (n.rank, pack(&n.interfaces_here)))
-            .collect();
-        let receive = self.receive_list(|n| &n.subs_here, m1 + 1 - m0);
-        let got = self.ranks.exchange(&send, &receive);
-        let from = self.neighbours.iter().filter(|n| !n.subs_here.is_empty());
-        for (n, data) in from.zip(got) {
-            let mut at = 0;
-            for c in &n.subs_here {
-                let h = &mut hats[c.interface][c.side];
-                for m in m0..=m1 {
-                    let r = h.at(m);
-                    h.f[r.clone()].copy_from_slice(&data[at..at + c.len]);
-                    at += c.len;
-                    h.w[r].copy_from_slice(&data[at..at + c.len]);
-                    at += c.len;
-                }
-            }
-        }
-    }
-
-    /// (rank, values) of the messages this rank receives, for cut sides chosen by `which`.
-    fn receive_list(
-        &self,
-        which: impl Fn(&Neighbour) -> &Vec<CutSide>,
-        steps: usize,
-    ) -> Vec<(usize, usize)> {
-        self.neighbours
-            .iter()
-            .filter(|n| !which(n).is_empty())
-            .map(|n| (n.rank, which(n).iter().map(|c| 2 * c.len * steps).sum()))
-            .collect()
+        held
     }
 
     /// `values` ← the sum over the ranks (exact where each entry has at most two non-zero
@@ -326,10 +300,11 @@ impl Distribution {
     /// Whether any rank passes `flag` true.
     pub fn any(&self, flag: bool) -> bool {
         if self.is_single() {
-            flag
-        } else {
-            crate::ranks::any(&*self.ranks, flag)
+            return flag;
         }
+        let mut v = [f64::from(u8::from(flag))];
+        self.ranks.all_sum(&mut v);
+        v[0] > 0.0
     }
 
     /// Makes the traces of every substructure complete on every rank: each rank keeps the

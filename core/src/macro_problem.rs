@@ -128,10 +128,7 @@ impl MacroProblem {
                 .map(|m| (m.interface, m.trace_offset))
                 .collect()
         });
-        let mut needed = vec![false; classes.count()];
-        for (i, &c) in classes.of.iter().enumerate() {
-            needed[c] |= distribution.holds_sub(i);
-        }
+        let needed = distribution.holds_classes(&classes.of, classes.count());
         let mut homogenized = par::map_range(classes.count(), |c| {
             let s = classes.representatives[c];
             match factor_of(s) {

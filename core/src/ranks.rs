@@ -51,10 +51,3 @@ impl Ranks for OneRank {
         Vec::new()
     }
 }
-
-/// Whether any rank passes `flag` true (an all-sum of 0/1).
-pub fn any(ranks: &dyn Ranks, flag: bool) -> bool {
-    let mut v = [f64::from(u8::from(flag))];
-    ranks.all_sum(&mut v);
-    v[0] > 0.0
-}

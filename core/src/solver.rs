@@ -317,6 +317,12 @@ impl Solver {
     ) -> Result<Solution> {
         let mut run = self.begin(start)?;
         while !self.step(&mut run, observer) {}
+        self.conclude(run)
+    }
+
+    /// The solution of an ended run, or the non-finite value that ended it
+    /// ([`LopinError::NonFinite`]).
+    pub fn conclude(&self, run: SolveRun) -> Result<Solution> {
         if let Some(failure) = run.failure() {
             return Err(LopinError::NonFinite(failure.to_string()));
         }
@@ -344,10 +350,7 @@ fn factorize(
     distribution: &Distribution,
 ) -> Result<Vec<Option<CholeskyFactor>>> {
     let time = problem.step_coefficients();
-    let mut needed = vec![false; classes.count()];
-    for (i, &c) in classes.of.iter().enumerate() {
-        needed[c] |= distribution.holds_sub(i);
-    }
+    let needed = distribution.holds_classes(&classes.of, classes.count());
     par::map_range(classes.count(), |c| {
         if !needed[c] {
             return Ok(None);

@@ -166,24 +166,23 @@ fn anderson_and_too_many_ranks_are_refused_on_every_rank() {
     let spec = spec("two-blocks", 1);
     let problem = scene::build::build(&spec, &spec.name).expect("builds");
     let mut settings = Settings::for_problem(&problem, &spec.solver);
-    let n = problem.subs.len();
-    let errors = thread_ranks::run(n + 1, |r| {
-        let r: Arc<dyn Ranks> = r;
-        Solver::new_distributed(problem.clone(), settings, r)
-            .expect_err("more ranks than substructures")
-            .to_string()
-    });
-    for e in errors {
-        assert!(e.contains("at most one rank per substructure"), "{e}");
-    }
+    // every rank refuses, with the same reason
+    let refused = |ranks: usize, settings: Settings, reason: &str| {
+        let errors = thread_ranks::run(ranks, |r| {
+            let r: Arc<dyn Ranks> = r;
+            Solver::new_distributed(problem.clone(), settings, r)
+                .expect_err(reason)
+                .to_string()
+        });
+        for e in errors {
+            assert!(e.contains(reason), "{e}");
+        }
+    };
+    refused(
+        problem.subs.len() + 1,
+        settings,
+        "at most one rank per substructure",
+    );
     settings.anderson = 3;
-    let errors = thread_ranks::run(2, |r| {
-        let r: Arc<dyn Ranks> = r;
-        Solver::new_distributed(problem.clone(), settings, r)
-            .expect_err("Anderson on two ranks")
-            .to_string()
-    });
-    for e in errors {
-        assert!(e.contains("anderson"), "{e}");
-    }
+    refused(2, settings, "anderson");
 }

@@ -91,12 +91,9 @@ pub fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         }
     }
     bar.finish_and_clear();
-    let solution = match run.failure() {
-        Some(f) => Err(lopin_core::LopinError::NonFinite(f.to_string())),
-        None => Ok(solver.finish(run)),
-    };
-    let solution =
-        solution.with_context(|| format!("{}: solving", scene::source_label(&args.scene.scene)))?;
+    let solution = solver
+        .conclude(run)
+        .with_context(|| format!("{}: solving", scene::source_label(&args.scene.scene)))?;
     if let Some(e) = record_error {
         return Err(e.context("recording the iterations"));
     }

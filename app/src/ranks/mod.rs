@@ -23,14 +23,9 @@ pub fn current() -> Option<Arc<dyn Ranks>> {
     RANKS.get().filter(|r| r.size() > 1).cloned()
 }
 
-/// This rank (0 on one machine).
-pub fn rank() -> usize {
-    current().map_or(0, |r| r.rank())
-}
-
-/// Whether this rank prints the results and writes the shared files (rank 0).
+/// Whether this rank prints the results and writes the shared files (rank 0, or the only one).
 pub fn is_root() -> bool {
-    rank() == 0
+    current().is_none_or(|r| r.rank() == 0)
 }
 
 /// The error of a rank whose failure another rank reports: a failure found on any rank of a
