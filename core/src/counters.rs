@@ -25,6 +25,9 @@ pub struct IterationRecord {
     pub linear_s: f64,
     /// Of which seconds in the macro problem (right-hand side, solve; METHOD §9 steps 2–3).
     pub macro_s: f64,
+    /// Seconds of this rank in exchanges and sums between ranks, waiting included (0 on one
+    /// machine; part of the local and linear stages' seconds).
+    pub comm_s: f64,
     /// Substructure linear stages skipped because their inputs did not change.
     pub skipped: usize,
 }

@@ -13,8 +13,18 @@
 //! Sums (η, η̄, the macro right-hand side of METHOD §9) go through [`Ranks::all_sum`] with one
 //! non-zero contribution per entry and rank ([`crate::ranks`]), so every rank reaches the same
 //! η and the same decisions as the run on one machine, bit for bit.
+//!
+//! A rank stores only the interface fields it works on ([`Distribution::needs_trace`],
+//! [`Distribution::needs_hat`]): s of its substructures and of the other sides of its
+//! interfaces, ŝ of its interfaces and of its substructures' sides. The others stay empty, so
+//! memory per rank falls with the number of ranks; [`Distribution::gather_to_root`] assembles the
+//! whole solution on rank 0 where a file needs it. Every exchange and sum is timed
+//! ([`Distribution::comm_seconds`]).
 
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
+
+use crate::counters::Instant;
 
 use crate::indicator::IndicatorSums;
 use crate::interface::Interface;
@@ -53,6 +63,13 @@ pub struct Distribution {
     /// Rank of every interface (that of its first side's substructure).
     interface_rank: Vec<usize>,
     neighbours: Vec<Neighbour>,
+    /// Whether this rank stores s of each substructure (its own, and the other sides of its
+    /// interfaces).
+    trace_needed: Vec<bool>,
+    /// Whether this rank stores ŝ of each interface (its own, and its substructures' sides).
+    hat_needed: Vec<bool>,
+    /// Nanoseconds spent in exchanges and sums between ranks.
+    comm_nanos: Arc<AtomicU64>,
 }
 
 impl Distribution {
@@ -134,12 +151,54 @@ impl Distribution {
             }
         }
         neighbours.retain(|n| !n.subs_here.is_empty() || !n.interfaces_here.is_empty());
+        let mut trace_needed: Vec<bool> = sub_rank.iter().map(|&r| r == me).collect();
+        let mut hat_needed: Vec<bool> = interface_rank.iter().map(|&r| r == me).collect();
+        for (i, iface) in interfaces.iter().enumerate() {
+            for side in &iface.sides {
+                if interface_rank[i] == me {
+                    trace_needed[side.sub] = true;
+                }
+                if sub_rank[side.sub] == me {
+                    hat_needed[i] = true;
+                }
+            }
+        }
         Self {
             ranks,
             sub_rank,
             interface_rank,
             neighbours,
+            trace_needed,
+            hat_needed,
+            comm_nanos: Arc::new(AtomicU64::new(0)),
         }
+    }
+
+    /// Whether this rank stores s of substructure `i`: it holds it, or an interface it holds
+    /// has a side on it.
+    pub fn needs_trace(&self, i: usize) -> bool {
+        self.trace_needed[i]
+    }
+
+    /// Whether this rank stores ŝ of interface `i`: it holds it, or one of its substructures
+    /// is a side of it.
+    pub fn needs_hat(&self, i: usize) -> bool {
+        self.hat_needed[i]
+    }
+
+    /// Seconds this rank has spent in exchanges and sums between ranks (waiting included), since
+    /// the distribution was made; 0 on one machine.
+    pub fn comm_seconds(&self) -> f64 {
+        self.comm_nanos.load(Ordering::Relaxed) as f64 * 1e-9
+    }
+
+    /// Runs `f`, adding its wall time to the communication clock.
+    fn timed<T>(&self, f: impl FnOnce() -> T) -> T {
+        let t = Instant::now();
+        let out = f();
+        let nanos = u64::try_from(t.elapsed().as_nanos()).unwrap_or(u64::MAX);
+        self.comm_nanos.fetch_add(nanos, Ordering::Relaxed);
+        out
     }
 
     /// The communication between ranks.
@@ -240,7 +299,7 @@ impl Distribution {
                 (n.rank, values * (m1 + 1 - m0))
             })
             .collect();
-        let got = self.ranks.exchange(&send, &receive);
+        let got = self.timed(|| self.ranks.exchange(&send, &receive));
         for (n, data) in from.into_iter().zip(got) {
             let mut at = 0;
             for c in incoming(n) {
@@ -270,7 +329,7 @@ impl Distribution {
     /// contributions, [`crate::ranks`]).
     pub fn all_sum(&self, values: &mut [f64]) {
         if !self.is_single() {
-            self.ranks.all_sum(values);
+            self.timed(|| self.ranks.all_sum(values));
         }
     }
 
@@ -303,68 +362,73 @@ impl Distribution {
             return flag;
         }
         let mut v = [f64::from(u8::from(flag))];
-        self.ranks.all_sum(&mut v);
+        self.all_sum(&mut v);
         v[0] > 0.0
     }
 
-    /// Makes the traces of every substructure complete on every rank: each rank keeps the
-    /// histories of its substructures and receives the others'.
-    pub fn gather_state(&self, s: &mut InterfaceState) {
+    /// Makes the whole solution complete on rank 0: s of every substructure and ŝ of every
+    /// interface side. Every other rank sends what it holds (its substructures' s, its
+    /// interfaces' ŝ) in messages of bounded size; rank 0 allocates what it lacks. The other
+    /// ranks keep only their own parts.
+    pub fn gather_to_root(&self, s: &mut InterfaceState, hats: &mut [Vec<TraceHistory>]) {
         if self.is_single() {
             return;
         }
-        let held: Vec<bool> = (0..s.subs.len()).map(|i| self.holds_sub(i)).collect();
-        self.gather_histories(s.subs.iter_mut().zip(held));
-    }
-
-    /// Makes ŝ of every interface complete on every rank (each from its interface's rank).
-    pub fn gather_hats(&self, hats: &mut [Vec<TraceHistory>]) {
-        if self.is_single() {
-            return;
-        }
-        let held: Vec<bool> = (0..hats.len()).map(|i| self.holds_interface(i)).collect();
-        self.gather_histories(
-            hats.iter_mut()
-                .zip(held)
-                .flat_map(|(sides, h)| sides.iter_mut().map(move |s| (s, h))),
-        );
-    }
-
-    /// Sets the histories not held here to −0 (the neutral element, [`crate::ranks`]) and sums them over the ranks in pieces of bounded
-    /// size; the held ones keep their own values (a sum with zeros would turn −0 into +0).
-    fn gather_histories<'a>(&self, histories: impl Iterator<Item = (&'a mut TraceHistory, bool)>) {
         const PIECE: usize = 1 << 22;
-        let mut fields: Vec<(&mut [f64], bool)> = Vec::new();
-        for (h, held) in histories {
-            if !held {
-                h.f.iter_mut().for_each(|x| *x = -0.0);
-                h.w.iter_mut().for_each(|x| *x = -0.0);
+        let me = self.rank();
+        let steps = s.steps;
+        let mut owners: Vec<usize> = self.sub_rank.clone();
+        let mut items: Vec<&mut TraceHistory> = s.subs.iter_mut().collect();
+        for (k, sides) in hats.iter_mut().enumerate() {
+            for h in sides {
+                owners.push(self.interface_rank[k]);
+                items.push(h);
             }
-            fields.push((&mut h.f, held));
-            fields.push((&mut h.w, held));
         }
-        let mut buffer = Vec::with_capacity(PIECE);
-        let mut group: Vec<(&mut [f64], bool)> = Vec::new();
-        let flush = |buffer: &mut Vec<f64>, group: &mut Vec<(&mut [f64], bool)>| {
-            self.ranks.all_sum(buffer);
-            let mut at = 0;
-            for (f, held) in group.drain(..) {
-                if !held {
-                    f.copy_from_slice(&buffer[at..at + f.len()]);
+        let values = |h: &TraceHistory| 2 * h.len * (steps + 1);
+        // the same pieces on every rank: runs of items of one owner, up to PIECE values each
+        let mut pieces: Vec<(usize, Vec<usize>)> = Vec::new();
+        for rank in 1..self.size() {
+            let mut piece: Vec<usize> = Vec::new();
+            let mut size = 0;
+            for (n, _) in owners.iter().enumerate().filter(|&(_, &o)| o == rank) {
+                let v = values(items[n]);
+                if !piece.is_empty() && size + v > PIECE {
+                    pieces.push((rank, std::mem::take(&mut piece)));
+                    size = 0;
                 }
-                at += f.len();
+                piece.push(n);
+                size += v;
             }
-            buffer.clear();
-        };
-        for (f, held) in fields {
-            if !group.is_empty() && buffer.len() + f.len() > PIECE {
-                flush(&mut buffer, &mut group);
+            if !piece.is_empty() {
+                pieces.push((rank, piece));
             }
-            buffer.extend_from_slice(f);
-            group.push((f, held));
         }
-        if !group.is_empty() {
-            flush(&mut buffer, &mut group);
+        for (rank, piece) in pieces {
+            let total: usize = piece.iter().map(|&n| values(items[n])).sum();
+            let (send, receive) = if me == rank {
+                let mut data = Vec::with_capacity(total);
+                for &n in &piece {
+                    data.extend_from_slice(&items[n].f);
+                    data.extend_from_slice(&items[n].w);
+                }
+                (vec![(0, data)], Vec::new())
+            } else if me == 0 {
+                (Vec::new(), vec![(rank, total)])
+            } else {
+                (Vec::new(), Vec::new())
+            };
+            let got = self.timed(|| self.ranks.exchange(&send, &receive));
+            if let Some(data) = got.into_iter().next() {
+                let mut at = 0;
+                for &n in &piece {
+                    let h = &mut *items[n];
+                    let half = h.len * (steps + 1);
+                    h.f = data[at..at + half].to_vec();
+                    h.w = data[at + half..at + 2 * half].to_vec();
+                    at += 2 * half;
+                }
+            }
         }
     }
 }

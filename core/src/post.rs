@@ -300,8 +300,49 @@ pub fn energy(solver: &Solver, sol: &Solution) -> EnergyHistory {
     e
 }
 
-/// Contact histories of every contact interface.
+/// Contact histories of every contact interface, from a solution that holds ŝ of all of them
+/// (one machine, or rank 0 after [`crate::distribution::Distribution::gather_to_root`]).
 pub fn contact(solver: &Solver, sol: &Solution) -> Vec<ContactHistory> {
+    contact_where(solver, sol, &|_| true)
+}
+
+/// [`contact`] in a distributed run, called by every rank: each contact interface's history is
+/// computed on the rank that holds the interface and summed over the ranks (the others add −0,
+/// [`crate::ranks`]), so every rank gets every history, equal bit for bit to [`contact`] on one
+/// machine.
+pub fn gathered_contact(solver: &Solver, sol: &Solution) -> Vec<ContactHistory> {
+    let dist = solver.distribution();
+    if dist.is_single() {
+        return contact(solver, sol);
+    }
+    let mut out = contact_where(solver, sol, &|k| dist.holds_interface(k));
+    let mut flat: Vec<f64> = Vec::new();
+    for h in &out {
+        flat.extend(h.pressure.iter().flatten());
+        flat.extend(h.gap.iter().flatten());
+        flat.extend(h.slip.iter().flatten());
+        flat.extend(&h.normal_force);
+    }
+    dist.all_sum(&mut flat);
+    let mut at = flat.into_iter();
+    for h in &mut out {
+        for x in h.pressure.iter_mut().chain(&mut h.gap).chain(&mut h.slip) {
+            x.iter_mut().for_each(|v| *v = at.next().unwrap_or(0.0));
+        }
+        h.normal_force
+            .iter_mut()
+            .for_each(|v| *v = at.next().unwrap_or(0.0));
+    }
+    out
+}
+
+/// Contact histories of every contact interface, computed where `take` says; the others are
+/// filled with −0 (the neutral element of the sum over the ranks).
+fn contact_where(
+    solver: &Solver,
+    sol: &Solution,
+    take: &dyn Fn(usize) -> bool,
+) -> Vec<ContactHistory> {
     let t = Instant::now();
     let p = solver.problem();
     let (n, dt) = (p.time.steps, p.time.dt);
@@ -314,8 +355,17 @@ pub fn contact(solver: &Solver, sol: &Solution) -> Vec<ContactHistory> {
             let Law::Contact(c) = &iface.law else {
                 return None;
             };
-            let (h1, h2) = (&sol.hats[k][0], &sol.hats[k][1]);
             let nn = iface.node_count();
+            if !take(k) {
+                return Some(ContactHistory {
+                    interface: k,
+                    pressure: vec![vec![-0.0; nn]; n + 1],
+                    gap: vec![vec![-0.0; nn]; n + 1],
+                    slip: vec![vec![-0.0; nn]; n + 1],
+                    normal_force: vec![-0.0; n + 1],
+                });
+            }
+            let (h1, h2) = (&sol.hats[k][0], &sol.hats[k][1]);
             let mut h = ContactHistory {
                 interface: k,
                 pressure: vec![vec![0.0; nn]; n + 1],
@@ -420,9 +470,10 @@ pub fn interface_forces(solver: &Solver, sol: &Solution) -> Vec<Vec<Vec3>> {
         .collect()
 }
 
-/// Energy and contact summary of a solution.
+/// Energy and contact summary of a solution (in a distributed run every rank calls it and gets
+/// the whole summary).
 pub fn summary(solver: &Solver, sol: &Solution) -> Summary {
-    Summary::from_histories(&energy(solver, sol), &contact(solver, sol))
+    Summary::from_histories(&energy(solver, sol), &gathered_contact(solver, sol))
 }
 
 #[cfg(test)]

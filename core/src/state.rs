@@ -1,6 +1,8 @@
 //! Interface fields over the whole time grid: the linear-stage output s = (F, W) per
 //! substructure trace (the warm-start state of METHOD §8) and the local-stage output
 //! ŝ = (F̂, Ŵ) per interface side (METHOD §6). Layout: step-major, `[m * len + j]`, m = 0..=N.
+//! In a distributed run a rank stores only the histories it works on; the others are empty
+//! ([`TraceHistory::absent`]) and keep their length per step.
 
 use crate::error::{LopinError, Result};
 use crate::problem::Problem;
@@ -26,6 +28,21 @@ impl TraceHistory {
         }
     }
 
+    /// A history this rank does not store (a distributed run's other ranks hold it): `len`
+    /// entries per step, no values.
+    pub fn absent(len: usize) -> Self {
+        Self {
+            len,
+            f: Vec::new(),
+            w: Vec::new(),
+        }
+    }
+
+    /// Whether the values are stored here (a history of no entries always is).
+    pub fn is_present(&self) -> bool {
+        self.len == 0 || !self.f.is_empty()
+    }
+
     /// Range of step m in the arrays.
     pub fn at(&self, m: usize) -> std::ops::Range<usize> {
         m * self.len..(m + 1) * self.len
@@ -45,11 +62,20 @@ impl InterfaceState {
     /// The cold start of METHOD §6: F = W = 0 for m ≥ 1; at m = 0 the given initial state
     /// W₀ = B v₀, F₀ = 0.
     pub fn cold(problem: &Problem) -> Self {
+        Self::cold_where(problem, &|_| true)
+    }
+
+    /// [`Self::cold`] for the substructures `keep` says, the others absent.
+    pub fn cold_where(problem: &Problem, keep: &dyn Fn(usize) -> bool) -> Self {
         let steps = problem.time.steps;
         let subs = problem
             .subs
             .iter()
-            .map(|s| {
+            .enumerate()
+            .map(|(i, s)| {
+                if !keep(i) {
+                    return TraceHistory::absent(s.trace_len());
+                }
                 let mut h = TraceHistory::zeros(s.trace_len(), steps);
                 for (j, &d) in s.trace_dofs.iter().enumerate() {
                     h.w[j] = s.initial_velocity[d % 3];
@@ -60,7 +86,8 @@ impl InterfaceState {
         Self { steps, subs }
     }
 
-    /// Checks that this state has the layout of `problem` (same steps and trace sizes).
+    /// Checks that this state has the layout of `problem` (same steps and trace sizes); absent
+    /// histories (a distributed run's other ranks) pass.
     pub fn check_fits(&self, problem: &Problem) -> Result<()> {
         if self.steps != problem.time.steps {
             return Err(LopinError::StateMismatch(format!(
@@ -76,7 +103,12 @@ impl InterfaceState {
             )));
         }
         for (h, s) in self.subs.iter().zip(&problem.subs) {
-            if h.len != s.trace_len() || h.f.len() != h.len * (self.steps + 1) {
+            let stored = if h.is_present() {
+                h.len * (self.steps + 1)
+            } else {
+                0
+            };
+            if h.len != s.trace_len() || h.f.len() != stored || h.w.len() != stored {
                 return Err(LopinError::StateMismatch(format!(
                     "substructure `{}` has {} trace dofs, the state {}",
                     s.name,

@@ -4,8 +4,10 @@
 //! interface fields (F, W) and ŝ, bit for bit, as the solver on one machine: on
 //! `two-blocks --split 2` (the whole interval and one-step windows), on `granular-small`
 //! single- and two-scale, and over a 3-value friction sweep with warm starts. The energy
-//! balance of the gathered solution equals the one-machine balance too. The same comparison
-//! runs under `mpirun` in `app/tests/mpi.rs`.
+//! balance and the summary (contact histories summed over the ranks) equal the one-machine ones
+//! too. While it iterates no rank stores the whole s and ŝ (memory falls with the ranks); the
+//! solution gathered on rank 0 is compared. The same comparison runs under `mpirun` in
+//! `app/tests/mpi.rs`.
 
 use std::sync::Arc;
 
@@ -30,41 +32,89 @@ fn solve_on(
     ranks: Option<usize>,
     tweak: &(dyn Fn(&mut Settings) + Sync),
     friction: &[f64],
-) -> (Vec<Solution>, f64) {
+) -> (Vec<Solution>, f64, post::Summary) {
     let problem = scene::build::build(spec, &spec.name).expect("builds");
     let mut settings = Settings::for_problem(&problem, &spec.solver);
     tweak(&mut settings);
+    // what one rank stores of s and ŝ, in doubles, against the whole solution
+    let stored = |s: &Solution| {
+        let hats: usize = s.hats.iter().flatten().map(|h| h.f.len() + h.w.len()).sum();
+        s.state.size() + hats
+    };
     let sweep = |mut solver: Solver| {
         let mut out: Vec<Solution> = Vec::new();
+        let mut kept = Vec::new();
         for &f in friction {
             solver
                 .set_parameter(Parameter::Friction, f)
                 .expect("friction");
             let start = out.last().map(|s| s.state.clone());
-            out.push(solver.solve(start.as_ref()).expect("solve"));
+            let mut sol = solver.solve(start.as_ref()).expect("solve");
+            kept.push(stored(&sol));
+            solver.gather_to_root(&mut sol);
+            out.push(sol);
         }
         let last = out.last().expect("a value");
         let e = post::energy(&solver, last);
         let n = e.kinetic.len() - 1;
-        (out, e.kinetic[n] + e.strain[n] - e.input_work[n])
+        let summary = post::summary(&solver, last);
+        (
+            out,
+            e.kinetic[n] + e.strain[n] - e.input_work[n],
+            summary,
+            kept,
+        )
     };
     match ranks {
-        None => sweep(Solver::new(problem, settings).expect("solver")),
+        None => {
+            let (out, e, summary, _) = sweep(Solver::new(problem, settings).expect("solver"));
+            (out, e, summary)
+        }
         Some(p) => {
             let mut all = thread_ranks::run(p, |r| {
                 let r: Arc<dyn Ranks> = r;
                 sweep(Solver::new_distributed(problem.clone(), settings, r).expect("solver"))
             });
-            // every rank holds the whole solution
+            let whole = stored(&all[0].0[0]);
             let first = all.remove(0);
-            for other in &all {
+            for (r, other) in all.iter().enumerate() {
                 assert_eq!(other.0.len(), first.0.len());
                 for (a, b) in other.0.iter().zip(&first.0) {
-                    assert_eq!(a.state, b.state, "ranks disagree on the state");
                     assert_eq!(a.iterations, b.iterations);
                 }
+                // every rank has the same summary (contact histories summed over the ranks)
+                assert_eq!(
+                    format!("{:?}", other.2),
+                    format!("{:?}", first.2),
+                    "rank {} disagrees on the summary",
+                    r + 1
+                );
             }
-            first
+            // no rank stores the whole solution while it iterates: memory falls with P
+            if p > 1 {
+                for (r, kept) in std::iter::once(&first.3)
+                    .chain(all.iter().map(|x| &x.3))
+                    .enumerate()
+                {
+                    for &k in kept {
+                        assert!(
+                            k < whole,
+                            "rank {r} of {p} stores {k} of the {whole} values of s and ŝ"
+                        );
+                    }
+                }
+                let largest = std::iter::once(&first.3)
+                    .chain(all.iter().map(|x| &x.3))
+                    .flatten()
+                    .max()
+                    .copied()
+                    .unwrap_or(0);
+                println!(
+                    "{p} ranks: the largest rank stores {:.0} % of s and ŝ",
+                    100.0 * largest as f64 / whole as f64
+                );
+            }
+            (first.0, first.1, first.2)
         }
     }
 }
@@ -100,9 +150,14 @@ fn same_as_one_machine(
     tweak: &(dyn Fn(&mut Settings) + Sync),
     friction: &[f64],
 ) {
-    let (serial, energy) = solve_on(spec, None, tweak, friction);
+    let (serial, energy, summary) = solve_on(spec, None, tweak, friction);
     for p in 1..=4 {
-        let (dist, e) = solve_on(spec, Some(p), tweak, friction);
+        let (dist, e, sum) = solve_on(spec, Some(p), tweak, friction);
+        assert_eq!(
+            format!("{sum:?}"),
+            format!("{summary:?}"),
+            "{label}, {p} ranks: the summary"
+        );
         for (v, (a, b)) in dist.iter().zip(&serial).enumerate() {
             assert!(a.converged && b.converged, "{label}, {p} ranks, value {v}");
             assert_eq!(a.iterations, b.iterations, "{label}, {p} ranks, value {v}");

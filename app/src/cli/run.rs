@@ -91,7 +91,7 @@ pub fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         }
     }
     bar.finish_and_clear();
-    let solution = solver
+    let mut solution = solver
         .conclude(run)
         .with_context(|| format!("{}: solving", scene::source_label(&args.scene.scene)))?;
     if let Some(e) = record_error {
@@ -119,6 +119,10 @@ pub fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     if recording {
         // distributed: the recording is written on rank 0 from every rank's fields
         post::gather_history(solver, &mut history);
+    }
+    if recording || args.outputs.out.is_some() {
+        // distributed: rank 0 needs the whole solution for solution.bin and the recording
+        solver.gather_to_root(&mut solution);
     }
     if let Some(mut rec) = recorder.take() {
         let steps = rec.solution(
@@ -151,6 +155,7 @@ pub fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         eta_history: solution.eta_history.clone(),
     });
     record.set_timings(solver, start.elapsed().as_secs_f64(), outputs_s);
+    let ranks = RankFacts::gather(solver);
     if !root {
         return Ok(exit_code(solution.converged));
     }
@@ -172,10 +177,24 @@ pub fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         let json = RunJson {
             report: report.report(),
             outputs: written,
+            ranks,
         };
         println!("{}", serde_json::to_string_pretty(&json)?);
     } else {
         let mut rows = report.rows();
+        for r in &ranks {
+            rows.row(
+                format!("rank {}", r.rank),
+                format!(
+                    "{} substructures, {:.3} s of {:.3} s iterating in communication, peak \
+                     memory {}",
+                    r.substructures,
+                    r.communication_s,
+                    r.iterations_s,
+                    lopin_core::estimate::bytes(r.peak_memory_bytes as usize)
+                ),
+            );
+        }
         // each output as its JSON object, in the order of the keys
         if let serde_json::Value::Object(outputs) = serde_json::to_value(&written)? {
             for (what, v) in outputs {
@@ -203,6 +222,51 @@ struct RunJson {
     report: SolveReport<Latin>,
     #[serde(skip_serializing_if = "Written::is_empty")]
     outputs: Written,
+    /// Under mpirun: what each rank held and spent.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    ranks: Vec<RankFacts>,
+}
+
+/// One rank of a distributed run, as rank 0 reports it.
+#[derive(Debug, Serialize)]
+struct RankFacts {
+    rank: usize,
+    substructures: usize,
+    /// Seconds of the iterations (local and linear stages).
+    iterations_s: f64,
+    /// Of which in exchanges and sums between ranks, waiting included.
+    communication_s: f64,
+    /// Peak resident memory of the rank's process.
+    peak_memory_bytes: u64,
+}
+
+impl RankFacts {
+    /// Every rank's facts on every rank (empty on one machine); every rank calls it.
+    fn gather(solver: &lopin_core::Solver) -> Vec<Self> {
+        let dist = solver.distribution();
+        if dist.is_single() {
+            return Vec::new();
+        }
+        let (p, me) = (dist.size(), dist.rank());
+        let its = &solver.counters().iterations;
+        // −0: the neutral element of the sum over the ranks
+        let mut v = vec![-0.0; 4 * p];
+        v[4 * me] = dist.sub_ranks().iter().filter(|&&r| r == me).count() as f64;
+        v[4 * me + 1] = its.iter().map(|r| r.local_s + r.linear_s).sum();
+        v[4 * me + 2] = its.iter().map(|r| r.comm_s).sum();
+        v[4 * me + 3] = super::report::peak_memory_bytes().unwrap_or(0) as f64;
+        dist.all_sum(&mut v);
+        v.chunks_exact(4)
+            .enumerate()
+            .map(|(rank, x)| Self {
+                rank,
+                substructures: x[0] as usize,
+                iterations_s: x[1],
+                communication_s: x[2],
+                peak_memory_bytes: x[3] as u64,
+            })
+            .collect()
+    }
 }
 
 /// The outputs a run wrote (the `outputs` object).

@@ -148,38 +148,71 @@ impl Solver {
         let p = &self.problem;
         let n = p.time.steps;
         self.counters.reset_solve();
-        let initial = InterfaceState::cold(p);
+        let dist = &self.distribution;
+        // a rank stores only the histories it works on (all of them on one machine)
+        let initial = InterfaceState::cold_where(p, &|i| dist.needs_trace(i));
         let s = match start {
             Some(st) => {
                 st.check_fits(p)?;
-                let mut s = st.clone();
-                // m = 0 is the given initial state, never iterated (METHOD §1)
-                for (h, h0) in s.subs.iter_mut().zip(&initial.subs) {
-                    let r = h.at(0);
-                    h.f[r.clone()].copy_from_slice(&h0.f[r.clone()]);
-                    h.w[r.clone()].copy_from_slice(&h0.w[r]);
+                let mut s = initial;
+                for (i, (h, from)) in s.subs.iter_mut().zip(&st.subs).enumerate() {
+                    if !h.is_present() {
+                        continue;
+                    }
+                    if !from.is_present() {
+                        return Err(crate::error::LopinError::StateMismatch(format!(
+                            "the start state lacks substructure `{}`, which rank {} needs",
+                            p.subs[i].name,
+                            dist.rank()
+                        )));
+                    }
+                    // m = 0 is the given initial state, never iterated (METHOD §1)
+                    let r0 = h.at(0).end;
+                    h.f[r0..].copy_from_slice(&from.f[r0..]);
+                    h.w[r0..].copy_from_slice(&from.w[r0..]);
                 }
                 s
             }
             None => initial,
         };
+        // ŝ starts as the initial state on every step 0 (F̂ = 0, Ŵ = B v₀)
         let hats: Vec<Vec<TraceHistory>> = p
             .interfaces
             .iter()
-            .map(|i| {
+            .enumerate()
+            .map(|(k, i)| {
                 i.sides
                     .iter()
                     .map(|side| {
+                        if !dist.needs_hat(k) {
+                            return TraceHistory::absent(i.len);
+                        }
                         let mut h = TraceHistory::zeros(i.len, n);
-                        let src = &s.subs[side.sub];
-                        let r = src.at(0);
-                        h.f[..i.len].copy_from_slice(&src.f[r.start + side.offset..][..i.len]);
-                        h.w[..i.len].copy_from_slice(&src.w[r.start + side.offset..][..i.len]);
+                        let sub = &p.subs[side.sub];
+                        for (j, w) in h.w[..i.len].iter_mut().enumerate() {
+                            *w = sub.initial_velocity[sub.trace_dofs[side.offset + j] % 3];
+                        }
                         h
                     })
                     .collect()
             })
             .collect();
+        // the linear stage's output, on this rank's substructures
+        let s_new = InterfaceState {
+            steps: n,
+            subs: s
+                .subs
+                .iter()
+                .enumerate()
+                .map(|(i, h)| {
+                    if dist.holds_sub(i) {
+                        h.clone()
+                    } else {
+                        TraceHistory::absent(h.len)
+                    }
+                })
+                .collect(),
+        };
         let sub_states = p
             .subs
             .iter()
@@ -206,7 +239,7 @@ impl Solver {
         let window = self.settings.window.unwrap_or(n).clamp(1, n);
         Ok(SolveRun {
             warm: start.is_some(),
-            s_new: s.clone(),
+            s_new,
             s,
             hats,
             sub_states,
@@ -247,6 +280,7 @@ impl Solver {
         let set = self.settings;
         run.it += 1;
         run.iterations += 1;
+        let comm0 = self.distribution.comm_seconds();
         let t_local = Instant::now();
         run.local_stage(&self.problem, set.k, &self.distribution);
         let local_s = t_local.elapsed().as_secs_f64();
@@ -284,6 +318,7 @@ impl Solver {
             local_s,
             linear_s,
             macro_s: outcome.macro_s,
+            comm_s: self.distribution.comm_seconds() - comm0,
             skipped: outcome.skipped,
         };
         self.counters.iterations.push(record);
@@ -300,6 +335,13 @@ impl Solver {
             return true;
         }
         run.end_of_window(&self.linear, &set, &self.distribution)
+    }
+
+    /// Completes a distributed solution on rank 0 (every rank calls it; the others keep their
+    /// parts): s of every substructure and ŝ of every interface, as on one machine.
+    pub fn gather_to_root(&self, sol: &mut Solution) {
+        self.distribution
+            .gather_to_root(&mut sol.state, &mut sol.hats);
     }
 
     /// Checks that a run restored from a checkpoint has the layout of this solver's problem
@@ -324,11 +366,11 @@ impl Solver {
     }
 
     /// The solution a run reached (converged, or the newest iterate of an unconverged or
-    /// cancelled one). In a distributed run every rank calls it and receives the whole
-    /// solution.
-    pub fn finish(&self, mut run: SolveRun) -> Solution {
-        self.distribution.gather_state(&mut run.s);
-        self.distribution.gather_hats(&mut run.hats);
+    /// cancelled one). In a distributed run it holds what this rank stored (its substructures'
+    /// s, its interfaces' ŝ and the sides it exchanged; the rest absent): enough to warm-start
+    /// the next solve on the same ranks and to post-process its substructures;
+    /// [`Solver::gather_to_root`] completes it on rank 0 for files.
+    pub fn finish(&self, run: SolveRun) -> Solution {
         Solution {
             state: run.s,
             hats: run.hats,

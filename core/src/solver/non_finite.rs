@@ -9,6 +9,10 @@ use crate::state::{InterfaceState, TraceHistory};
 
 /// The first step in `m0..=m1` at which `h` holds a non-finite F or W: (step, "F" or "W", value).
 fn first_bad(h: &TraceHistory, (m0, m1): (usize, usize)) -> Option<(usize, &'static str, f64)> {
+    if !h.is_present() {
+        // held by another rank, which reports it
+        return None;
+    }
     (m0..=m1).find_map(|m| {
         let r = h.at(m);
         let f = h.f[r.clone()].iter().find(|x| !x.is_finite());

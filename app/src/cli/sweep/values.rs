@@ -120,7 +120,7 @@ pub fn solve(
             Control::Continue
         });
         let finished = records.len();
-        let sol = sol.with_context(|| {
+        let mut sol = sol.with_context(|| {
             format!(
                 "{} = {value:?}: solving (the {finished} values before it are kept in {})",
                 parameter.name(),
@@ -163,6 +163,8 @@ pub fn solve(
             cold,
             state_file: state_name(index),
         };
+        // distributed: rank 0 writes the whole state
+        solver.gather_to_root(&mut sol);
         store.save(&record, &sol.state)?;
         let mut fields = Vec::new();
         if recording {
