@@ -25,6 +25,8 @@ pub mod counters;
 pub mod dense;
 pub mod detect;
 #[cfg(feature = "latin")]
+pub mod dissipation;
+#[cfg(feature = "latin")]
 pub mod distribution;
 pub mod error;
 #[cfg(feature = "latin")]
@@ -72,6 +74,8 @@ pub mod splitmix;
 #[cfg(feature = "latin")]
 pub mod state;
 pub mod stop_test;
+#[cfg(feature = "latin")]
+pub mod study;
 pub mod substructure;
 #[cfg(feature = "latin")]
 pub mod sweep;
@@ -82,6 +86,7 @@ pub mod time_function;
 pub mod time_scheme;
 pub mod window_choice;
 pub mod window_start;
+pub mod zone;
 
 pub use error::{LopinError, Result};
 pub use parameter::Parameter;

@@ -77,18 +77,28 @@ impl Parameter {
     /// The value the problem holds now: the first contact interface's friction or first gap, the
     /// largest prescribed velocity amplitude. None when the problem has nothing it applies to.
     pub fn current(&self, problem: &Problem) -> Option<f64> {
-        let contact = || {
-            problem.interfaces.iter().find_map(|i| match &i.law {
-                Law::Contact(c) => Some(c),
-                _ => None,
-            })
-        };
+        self.current_in(problem, None)
+    }
+
+    /// [`Self::current`] among the interfaces of `zone` (an index into `problem.zones`; None:
+    /// all).
+    pub fn current_in(&self, problem: &Problem, zone: Option<usize>) -> Option<f64> {
+        let reached = |i: usize| zone.is_none_or(|z| problem.zones[z].holds(i));
+        let mut interfaces = problem
+            .interfaces
+            .iter()
+            .enumerate()
+            .filter(|&(i, _)| reached(i))
+            .map(|(_, iface)| iface);
+        let contact = interfaces.clone().find_map(|i| match &i.law {
+            Law::Contact(c) => Some(c),
+            _ => None,
+        });
         match self {
-            Self::Friction => contact().map(|c| c.friction),
-            Self::Gap => contact().map(|c| c.gap.first().copied().unwrap_or(0.0)),
-            Self::VelocityAmplitude => problem
-                .interfaces
-                .iter()
+            Self::Friction => contact.map(|c| c.friction),
+            Self::Gap => contact.map(|c| c.gap.first().copied().unwrap_or(0.0)),
+            Self::VelocityAmplitude => interfaces
+                .by_ref()
                 .filter_map(|i| match &i.law {
                     Law::Boundary(d) => Some(d),
                     _ => None,
@@ -132,11 +142,25 @@ impl Parameter {
     /// Checks `value` (against the problem too, [`Self::check_for`]) and sets it on every
     /// interface it applies to.
     pub fn apply(&self, problem: &mut Problem, value: f64) -> Result<()> {
+        self.apply_in(problem, None, value)
+    }
+
+    /// [`Self::apply`] on the interfaces of `zone` only (an index into `problem.zones`; None:
+    /// every interface).
+    pub fn apply_in(&self, problem: &mut Problem, zone: Option<usize>, value: f64) -> Result<()> {
         self.check_for(problem, value)?;
+        if let Some(z) = zone {
+            if z >= problem.zones.len() {
+                return Err(LopinError::setting(
+                    "param",
+                    format!("zone {z} of {}", problem.zones.len()),
+                ));
+            }
+        }
         match self {
-            Self::Friction => problem.set_friction(value),
-            Self::Gap => problem.set_gap(value),
-            Self::VelocityAmplitude => problem.set_velocity_amplitude(value),
+            Self::Friction => problem.set_friction(value, zone),
+            Self::Gap => problem.set_gap(value, zone),
+            Self::VelocityAmplitude => problem.set_velocity_amplitude(value, zone),
         }
         Ok(())
     }

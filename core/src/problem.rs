@@ -35,6 +35,8 @@ pub struct Problem {
     /// Sign of every boundary dof's prescribed velocity as built (per interface, per dof), so
     /// that the amplitude can be swept through zero.
     pub velocity_signs: Vec<Vec<f64>>,
+    /// Named groups of interfaces with parameters of their own ([`crate::zone`]).
+    pub zones: Vec<crate::zone::Zone>,
 }
 
 impl Problem {
@@ -70,9 +72,17 @@ impl Problem {
         self.interfaces.iter().filter(|i| i.is_contact()).count()
     }
 
-    /// Sets the friction coefficient of every contact interface.
-    pub(crate) fn set_friction(&mut self, f: f64) {
-        for i in &mut self.interfaces {
+    /// Which interfaces a parameter set in `zone` reaches (None: all of them).
+    fn reached(&self, zone: Option<usize>) -> Vec<bool> {
+        (0..self.interfaces.len())
+            .map(|i| zone.is_none_or(|z| self.zones[z].holds(i)))
+            .collect()
+    }
+
+    /// Sets the friction coefficient of every contact interface (of `zone` only, if given).
+    pub(crate) fn set_friction(&mut self, f: f64, zone: Option<usize>) {
+        let reached = self.reached(zone);
+        for (i, _) in self.interfaces.iter_mut().zip(reached).filter(|x| x.1) {
             if let Law::Contact(c) = &mut i.law {
                 c.friction = f;
             }
@@ -91,10 +101,17 @@ impl Problem {
             .collect();
     }
 
-    /// Sets the amplitude of every non-zero prescribed velocity to `v` (m/s), keeping the
-    /// directions of the scene.
-    pub(crate) fn set_velocity_amplitude(&mut self, v: f64) {
-        for (i, signs) in self.interfaces.iter_mut().zip(&self.velocity_signs) {
+    /// Sets the amplitude of every non-zero prescribed velocity (of `zone` only, if given) to
+    /// `v` (m/s), keeping the directions of the scene.
+    pub(crate) fn set_velocity_amplitude(&mut self, v: f64, zone: Option<usize>) {
+        let reached = self.reached(zone);
+        for ((i, signs), _) in self
+            .interfaces
+            .iter_mut()
+            .zip(&self.velocity_signs)
+            .zip(reached)
+            .filter(|x| x.1)
+        {
             if let Law::Boundary(d) = &mut i.law {
                 for (dof, &sign) in d.iter_mut().zip(signs) {
                     dof.set_velocity_amplitude(v, sign);
@@ -103,9 +120,11 @@ impl Problem {
         }
     }
 
-    /// Sets the initial gap g0 of every node of every contact interface.
-    pub(crate) fn set_gap(&mut self, g0: f64) {
-        for i in &mut self.interfaces {
+    /// Sets the initial gap g0 of every node of every contact interface (of `zone` only, if
+    /// given).
+    pub(crate) fn set_gap(&mut self, g0: f64, zone: Option<usize>) {
+        let reached = self.reached(zone);
+        for (i, _) in self.interfaces.iter_mut().zip(reached).filter(|x| x.1) {
             if let Law::Contact(c) = &mut i.law {
                 c.gap.iter_mut().for_each(|g| *g = g0);
             }

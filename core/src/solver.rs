@@ -249,6 +249,17 @@ impl Solver {
         parameter.apply(&mut self.problem, value)
     }
 
+    /// [`Self::set_parameter`] on the interfaces of one zone of the problem (an index into
+    /// `problem().zones`; None: every interface).
+    pub fn set_parameter_in(
+        &mut self,
+        parameter: Parameter,
+        zone: Option<usize>,
+        value: f64,
+    ) -> Result<()> {
+        parameter.apply_in(&mut self.problem, zone, value)
+    }
+
     /// Adds time spent outside `new` on setup (e.g. assembling the scene).
     pub fn add_setup_time(&mut self, seconds: f64) {
         self.counters.setup_s += seconds;

@@ -136,6 +136,7 @@ impl Bar1d {
             granular_poly: None,
             interfaces,
             boundaries,
+            zones: Vec::new(),
         }
     }
 

@@ -102,6 +102,7 @@ fn problem_from_file(binary: bool) -> Problem {
         },
         scheme: TimeScheme::new(1.0),
         velocity_signs: Vec::new(),
+        zones: Vec::new(),
     };
     p.record_velocity_signs();
     p

@@ -18,6 +18,7 @@ mod scaling;
 mod scenes;
 mod setup;
 mod stress;
+mod study;
 mod sweep;
 mod sweep_store;
 mod view;
@@ -53,6 +54,8 @@ enum Command {
     Export(export::ExportArgs),
     /// Parametric study with warm starts (multiresolution), resumable.
     Sweep(sweep::SweepArgs),
+    /// Study over several parameters (grid or samples, per zone), chains at once, resumable.
+    Study(study::StudyArgs),
     /// Time setup, iterations and triangular solves on `two-blocks` (refine 1 and 2).
     Bench(bench::BenchArgs),
     /// Iterations against the number of substructures, with and without the macro problem.
@@ -93,6 +96,7 @@ pub fn dispatch(cli: Cli) -> anyhow::Result<std::process::ExitCode> {
         Some(Command::Accuracy(args)) => accuracy::accuracy(&args),
         Some(Command::Stress(args)) => stress::stress(&args),
         Some(Command::Sweep(args)) => sweep::sweep(&args),
+        Some(Command::Study(args)) => study::study(&args),
         Some(Command::Export(args)) => export::export_cmd(&args),
         Some(Command::Bench(args)) => bench::bench(&args),
         Some(Command::Scaling(args)) => scaling::scaling(&args),

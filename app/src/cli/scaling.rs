@@ -62,6 +62,7 @@ pub fn cube(n: usize, elements: usize, steps: usize) -> SceneSpec {
         }],
         mesh_bodies: Vec::new(),
         granular_poly: None,
+        zones: Vec::new(),
         bodies: vec![BodySpec {
             name: "cube".into(),
             material: "matrix".into(),

@@ -257,6 +257,7 @@ pub fn build(spec: &SceneSpec, source: &str) -> Result<Problem> {
         }
     }
     assemble_traces(&mut subs, &mut interfaces);
+    let zones = crate::zone::resolve(&spec.zones, &subs, &interfaces, source)?;
     let mut problem = Problem {
         name: spec.name.clone(),
         materials,
@@ -265,6 +266,7 @@ pub fn build(spec: &SceneSpec, source: &str) -> Result<Problem> {
         time: spec.time,
         scheme: crate::time_scheme::TimeScheme::new(spec.solver.rho_inf.unwrap_or(1.0)),
         velocity_signs: Vec::new(),
+        zones,
     };
     problem.record_velocity_signs();
     Ok(problem)

@@ -55,6 +55,9 @@ pub struct SceneSpec {
     /// Boundary conditions on faces of bodies (faces not named are free).
     #[serde(default, rename = "boundary", skip_serializing_if = "Vec::is_empty")]
     pub boundaries: Vec<BoundarySpec>,
+    /// Named groups of interfaces whose parameters a study moves apart (`[[zone]]`, issue 20).
+    #[serde(default, rename = "zone", skip_serializing_if = "Vec::is_empty")]
+    pub zones: Vec<crate::zone::ZoneSpec>,
 }
 
 fn default_refine_axes() -> String {

@@ -1,0 +1,410 @@
+//! `lopin study`: a parametric study over several interface parameters (issue 20; METHOD §8):
+//! a grid of value lists or samples of distributions ([`lopin_core::study::design`]), each
+//! parameter everywhere or in one zone of the scene (`f@ZONE`), visited along a greedy
+//! nearest-neighbour path cut into `--chains` chains that run at once, each configuration
+//! warm-started from the nearest one its chain solved. Every finished configuration is one row of
+//! `study.csv` at once ([`rows`]); `--resume` keeps every row and solves the rest;
+//! `study.json` holds the plan (parameters, design, order) and the totals.
+
+mod figures;
+mod rows;
+mod stats;
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::sync::Mutex;
+
+use anyhow::Context;
+use clap::Args;
+use lopin_core::counters::Instant;
+use lopin_core::study::runner::{self, Outcome, Predictor, RunOptions};
+use lopin_core::study::{Chains, Design, Path, Sampling, Spread, Target};
+use lopin_core::window_choice::Task;
+use lopin_core::Solver;
+use serde::Serialize;
+
+use super::setup::{prepare, SceneArgs};
+use rows::Rows;
+
+/// Options of `lopin study`.
+#[derive(Debug, Args)]
+pub struct StudyArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// A parameter and its spread, once per parameter: NAME=START:STOP:STEP, NAME=V1,V2,…,
+    /// NAME=uniform(A,B), NAME=normal(MEAN,SD) or NAME=lognormal(MU,SIGMA) (ln x ~ N(MU, SIGMA));
+    /// NAME is f, gap or v0, or NAME@ZONE for one zone of the scene.
+    #[arg(long, required = true)]
+    pub param: Vec<String>,
+    /// Draw this many samples of the spreads instead of the grid of the value lists.
+    #[arg(long, allow_negative_numbers = true)]
+    pub samples: Option<i64>,
+    /// How samples are drawn.
+    #[arg(long, value_enum, default_value_t = SamplingArg::Lhs)]
+    pub sampling: SamplingArg,
+    /// Seed of the draws.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Chains of the path solved at once (each with its own factorization).
+    #[arg(long, default_value_t = 1)]
+    pub chains: usize,
+    /// Solve every configuration cold (the baseline).
+    #[arg(long, conflicts_with = "compare_cold")]
+    pub cold: bool,
+    /// Solve every configuration warm and cold, reporting both iteration counts.
+    #[arg(long)]
+    pub compare_cold: bool,
+    /// Start of a warm configuration: the nearest solved one's state, or on a grid the
+    /// parallelogram s_j + s_k − s_l of three solved neighbours (the change of one parameter step
+    /// on the neighbouring row carried over).
+    #[arg(long, value_enum, default_value_t = PredictorArg::Nearest)]
+    pub predictor: PredictorArg,
+    /// Directory of study.csv and study.json (default out/study-SCENE).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Keep the rows of the study in --out and solve the configurations it lacks.
+    #[arg(long)]
+    pub resume: bool,
+    /// Print one JSON object on stdout instead of the summary.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// `--sampling`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum SamplingArg {
+    /// Latin hypercube.
+    Lhs,
+    /// Monte Carlo.
+    Mc,
+}
+
+/// `--predictor`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum PredictorArg {
+    /// The nearest solved configuration.
+    Nearest,
+    /// Three solved neighbours closing a parallelogram (grids), else the nearest.
+    Parallelogram,
+}
+
+/// `study.json`: what the study is (a resume must find the same) and, at the end, its totals.
+#[derive(Debug, Clone, Serialize, serde::Deserialize, PartialEq)]
+pub struct Plan {
+    pub scene: String,
+    /// Fingerprint of the resolved scene and settings.
+    pub fingerprint: String,
+    pub parameters: Vec<String>,
+    pub spreads: Vec<String>,
+    /// `grid`, `lhs` or `mc`.
+    pub design: String,
+    pub seed: Option<u64>,
+    pub configurations: usize,
+    pub chains: usize,
+    pub mode: String,
+    #[serde(default)]
+    pub predictor: String,
+    /// Visiting order (configuration indices) and its length in scaled parameter space, against
+    /// the given order's.
+    pub order: Vec<usize>,
+    pub path_length: f64,
+    pub given_length: f64,
+}
+
+/// The totals of a study.
+#[derive(Debug, Clone, Serialize)]
+pub struct Totals {
+    pub configurations: usize,
+    pub converged: usize,
+    pub iterations: usize,
+    pub cold_iterations: Option<usize>,
+    pub wall_s: f64,
+    /// Bytes of the converged states kept per chain (f32).
+    pub state_bytes: Vec<usize>,
+    /// Statistics of every quantity over the configurations.
+    pub statistics: Vec<stats::Statistics>,
+    /// Standardized regression coefficients (sampled studies): one row per parameter, one
+    /// column per quantity.
+    pub regression: Option<Vec<[f64; 6]>>,
+    /// The figures written.
+    pub figures: Vec<String>,
+}
+
+pub fn study(args: &StudyArgs) -> anyhow::Result<ExitCode> {
+    let start = Instant::now();
+    let prepared = prepare(&args.scene.for_task(Task::Study))?;
+    let problem = prepared.solver.problem().clone();
+    let settings = *prepared.solver.settings();
+    let mut axes = Vec::new();
+    for p in &args.param {
+        let (name, spread) = p.split_once('=').with_context(|| {
+            format!("--param must look like f=0:0.5:0.05 or f@ZONE=normal(0.3,0.05) (got `{p}`)")
+        })?;
+        let target = Target::parse(name, &problem).with_context(|| format!("--param {p}"))?;
+        let spread = Spread::parse(spread).with_context(|| format!("--param {p}"))?;
+        if axes
+            .iter()
+            .any(|(t, _): &(Target, Spread)| t.label == target.label)
+        {
+            anyhow::bail!("--param {p}: `{}` is given twice", target.label);
+        }
+        axes.push((target, spread));
+    }
+    let spreads: Vec<String> = axes.iter().map(|(_, s)| s.describe()).collect();
+    let design = match args.samples {
+        None => Design::grid(axes).context("--param")?,
+        Some(n) if n <= 0 => anyhow::bail!("--samples: must be positive, got {n}"),
+        Some(n) => {
+            let sampling = match args.sampling {
+                SamplingArg::Lhs => Sampling::LatinHypercube,
+                SamplingArg::Mc => Sampling::MonteCarlo,
+            };
+            Design::sample(axes, n as usize, sampling, args.seed).context("--param")?
+        }
+    };
+    // every configuration checked against the problem before anything is written
+    {
+        let mut p = problem.clone();
+        for (i, point) in design.points.iter().enumerate() {
+            for (t, &x) in design.targets.iter().zip(point) {
+                t.apply(&mut p, x)
+                    .with_context(|| format!("--param: configuration {i}, {} = {x:e}", t.label))?;
+            }
+        }
+    }
+    if args.chains == 0 {
+        anyhow::bail!("--chains: must be at least 1");
+    }
+    let path = Path::greedy(&design.points);
+    let chains = Chains::split(&path, args.chains);
+    let plan = Plan {
+        scene: prepared.spec.name.clone(),
+        fingerprint: crate::run_dir::fingerprint::of_run(&prepared.spec, &settings).to_string(),
+        parameters: design.targets.iter().map(|t| t.label.clone()).collect(),
+        spreads,
+        design: match (args.samples, args.sampling) {
+            (None, _) => "grid".into(),
+            (Some(_), SamplingArg::Lhs) => "lhs".into(),
+            (Some(_), SamplingArg::Mc) => "mc".into(),
+        },
+        seed: args.samples.map(|_| args.seed),
+        configurations: design.points.len(),
+        chains: chains.0.len(),
+        mode: if args.cold {
+            "cold"
+        } else if args.compare_cold {
+            "compare-cold"
+        } else {
+            "warm"
+        }
+        .into(),
+        predictor: match args.predictor {
+            PredictorArg::Nearest => "nearest",
+            PredictorArg::Parallelogram => "parallelogram",
+        }
+        .into(),
+        order: path.order.clone(),
+        path_length: path.length,
+        given_length: Path::given(&design.points).length,
+    };
+    let dir = args
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(format!("out/study-{}", plan.scene)));
+    let rows = Mutex::new(Rows::open(&dir, &plan, &design, args.resume)?);
+    let kept = rows.lock().map_or(0, |r| r.done().len());
+    let done: Vec<bool> = {
+        let r = rows.lock().map_err(|_| anyhow::anyhow!("study rows"))?;
+        (0..design.points.len()).map(|i| r.has(i)).collect()
+    };
+    if !args.json {
+        eprintln!(
+            "study of {} configurations ({}), {} chain(s){}; path {:.3} against {:.3} in the given order",
+            design.points.len(),
+            plan.design,
+            plan.chains,
+            if kept > 0 {
+                format!(", {kept} kept from {}", dir.display())
+            } else {
+                String::new()
+            },
+            plan.path_length,
+            plan.given_length
+        );
+    }
+    let make = || Solver::new(problem.clone(), settings);
+    let write_error: Mutex<Option<anyhow::Error>> = Mutex::new(None);
+    let finished = |o: Outcome| -> lopin_core::Result<()> {
+        let mut r = rows.lock().unwrap_or_else(|p| p.into_inner());
+        if let Err(e) = r.append(&design, &o) {
+            let msg = format!("{e:#}");
+            *write_error.lock().unwrap_or_else(|p| p.into_inner()) = Some(e);
+            return Err(lopin_core::LopinError::setting("out", msg));
+        }
+        if !args.json {
+            eprintln!(
+                "  [{}/{}] {} → {} iterations{}",
+                r.done().len(),
+                design.points.len(),
+                describe_point(&design, o.index),
+                o.iterations,
+                o.start
+                    .map(|s| format!(" from {}", describe_point(&design, s)))
+                    .unwrap_or_else(|| " (cold)".into())
+            );
+        }
+        Ok(())
+    };
+    let options = RunOptions {
+        cold: args.cold,
+        compare_cold: args.compare_cold,
+        predictor: match args.predictor {
+            PredictorArg::Nearest => Predictor::Nearest,
+            PredictorArg::Parallelogram => Predictor::Parallelogram,
+        },
+    };
+    let result = runner::run(&make, &design, &chains, options, &|i| done[i], &finished);
+    if let Some(e) = write_error.into_inner().unwrap_or_else(|p| p.into_inner()) {
+        return Err(e.context(format!("{}: writing the study", dir.display())));
+    }
+    let rows = rows.into_inner().unwrap_or_else(|p| p.into_inner());
+    let state_bytes = result.with_context(|| {
+        format!(
+            "{}: the study stopped ({} configurations finished are kept; --resume continues)",
+            plan.scene,
+            rows.done().len()
+        )
+    })?;
+    let outcomes = rows.done();
+    let totals = Totals {
+        configurations: outcomes.len(),
+        converged: outcomes.iter().filter(|o| o.converged).count(),
+        iterations: outcomes.iter().map(|o| o.iterations).sum(),
+        cold_iterations: outcomes
+            .iter()
+            .map(|o| o.cold_iterations)
+            .sum::<Option<usize>>(),
+        wall_s: start.elapsed().as_secs_f64(),
+        state_bytes,
+        statistics: stats::statistics(outcomes),
+        regression: design
+            .sampled
+            .then(|| stats::regression(&design, outcomes))
+            .flatten(),
+        figures: Vec::new(),
+    };
+    let mut totals = totals;
+    totals.figures = write_figures(&dir, &design, outcomes, &totals.statistics)?;
+    rows.finish(&plan, &totals)?;
+    if args.json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&serde_json::json!({
+                "plan": plan, "totals": totals, "dir": dir.display().to_string()
+            }))?
+        );
+    } else {
+        println!(
+            "{} configurations, {} converged, {} iterations{}, {:.1} s; states kept: {} per chain; \
+             {}",
+            totals.configurations,
+            totals.converged,
+            totals.iterations,
+            totals
+                .cold_iterations
+                .map(|c| format!(" (cold: {c}, ratio {:.3})", totals.iterations as f64 / c.max(1) as f64))
+                .unwrap_or_default(),
+            totals.wall_s,
+            totals
+                .state_bytes
+                .iter()
+                .map(|&b| lopin_core::estimate::bytes(b))
+                .collect::<Vec<_>>()
+                .join(", "),
+            dir.join("study.csv").display()
+        );
+    }
+    Ok(if totals.converged == totals.configurations {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
+    })
+}
+
+/// `(f = 0.3, gap = 2e-6)`.
+fn describe_point(design: &Design, i: usize) -> String {
+    let parts: Vec<String> = design
+        .targets
+        .iter()
+        .zip(&design.points[i])
+        .map(|(t, x)| format!("{} = {x:.4e}", t.label))
+        .collect();
+    format!("({})", parts.join(", "))
+}
+
+/// The study's figures and `sensitivities.csv`; returns the file names written.
+fn write_figures(
+    dir: &std::path::Path,
+    design: &Design,
+    outcomes: &[Outcome],
+    statistics: &[stats::Statistics],
+) -> anyhow::Result<Vec<String>> {
+    let mut sorted = outcomes.to_vec();
+    sorted.sort_by_key(|o| o.index);
+    let mut written = Vec::new();
+    let mut put = |name: &str, r: anyhow::Result<()>| -> anyhow::Result<()> {
+        r.with_context(|| format!("{}: writing", dir.join(name).display()))?;
+        written.push(name.to_string());
+        Ok(())
+    };
+    put(
+        "quantities.png",
+        figures::quantities(&dir.join("quantities.png"), design, &sorted),
+    )?;
+    if design.targets.len() >= 2 {
+        put(
+            "map.png",
+            figures::map(&dir.join("map.png"), design, &sorted),
+        )?;
+    }
+    if design.sampled {
+        put(
+            "histograms.png",
+            figures::histograms(&dir.join("histograms.png"), &sorted, statistics),
+        )?;
+    }
+    let sens = stats::sensitivities(design, &sorted);
+    if !sens.is_empty() {
+        put(
+            "sensitivities.png",
+            figures::sensitivities(&dir.join("sensitivities.png"), design, &sens),
+        )?;
+        let mut w = csv::Writer::from_path(dir.join("sensitivities.csv"))
+            .with_context(|| format!("{}: writing", dir.join("sensitivities.csv").display()))?;
+        let mut head = vec![
+            "from".to_string(),
+            "to".into(),
+            "parameter".into(),
+            "at".into(),
+        ];
+        head.extend(
+            lopin_core::study::Quantities::NAMES
+                .iter()
+                .map(|(n, _)| format!("d_{n}")),
+        );
+        w.write_record(&head)?;
+        for s in &sens {
+            let mut r = vec![
+                s.from.to_string(),
+                s.to.to_string(),
+                design.targets[s.parameter].label.clone(),
+                s.at.to_string(),
+            ];
+            r.extend(s.derivative.iter().map(f64::to_string));
+            w.write_record(&r)?;
+        }
+        w.flush()?;
+        written.push("sensitivities.csv".into());
+    }
+    Ok(written)
+}

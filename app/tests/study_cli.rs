@@ -1,0 +1,241 @@
+//! `lopin study` from the command line (issue 20): a study killed with SIGKILL after a few
+//! configurations and resumed keeps every finished row byte for byte, solves the rest, and ends
+//! with the same configurations and quantities (to the tolerance's reach: a resumed chain restarts
+//! cold) as an uninterrupted study, with its figures; bad input is refused with a message naming
+//! the option and the reason, before anything is written.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+fn lopin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_lopin"))
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("lopin-study-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    d
+}
+
+const ARGS: [&str; 8] = [
+    "study",
+    "two-blocks",
+    "--param",
+    "f=0:0.3:0.1",
+    "--param",
+    "gap=0,2e-6",
+    "--rho-inf",
+    "0.5",
+];
+
+/// Data rows of study.csv keyed by configuration index.
+fn rows(dir: &Path) -> Vec<(usize, String)> {
+    let text = std::fs::read_to_string(dir.join("study.csv")).expect("study.csv");
+    let mut out: Vec<(usize, String)> = text
+        .lines()
+        .skip(1)
+        .map(|l| {
+            (
+                l.split(',')
+                    .next()
+                    .expect("test value")
+                    .parse()
+                    .expect("test value"),
+                l.to_string(),
+            )
+        })
+        .collect();
+    out.sort();
+    out
+}
+
+fn column(line: &str, header: &str, name: &str) -> f64 {
+    let k = header.split(',').position(|h| h == name).expect(name);
+    line.split(',')
+        .nth(k)
+        .expect("test value")
+        .parse()
+        .expect("number")
+}
+
+#[test]
+fn a_killed_study_resumes_without_losing_a_row() {
+    let full = scratch("full");
+    let out = lopin()
+        .args(ARGS)
+        .args(["--json", "--out"])
+        .arg(&full)
+        .output()
+        .expect("runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+    assert_eq!(json["totals"]["configurations"], 8);
+    assert_eq!(json["totals"]["converged"], 8);
+    // the path walks f first: one gap step in the whole study
+    let order: Vec<usize> = json["plan"]["order"]
+        .as_array()
+        .expect("order")
+        .iter()
+        .map(|v| v.as_u64().expect("test value") as usize)
+        .collect();
+    assert_eq!(order, [0, 2, 4, 6, 7, 5, 3, 1]);
+    for f in [
+        "quantities.png",
+        "map.png",
+        "sensitivities.png",
+        "sensitivities.csv",
+    ] {
+        assert!(full.join(f).exists(), "{f}");
+    }
+    assert_eq!(rows(&full).len(), 8);
+
+    let part = scratch("part");
+    let mut child = lopin()
+        .args(ARGS)
+        .arg("--out")
+        .arg(&part)
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("spawns");
+    let start = Instant::now();
+    loop {
+        let n = std::fs::read_to_string(part.join("study.csv")).map_or(0, |t| t.lines().count());
+        if n >= 4 || child.try_wait().expect("wait").is_some() {
+            break;
+        }
+        assert!(start.elapsed() < Duration::from_secs(120), "no progress");
+        std::thread::sleep(Duration::from_millis(2));
+    }
+    child.kill().ok(); // SIGKILL
+    child.wait().expect("reaped");
+    let kept = rows(&part);
+    println!("killed after {} rows", kept.len());
+    assert!(!kept.is_empty());
+
+    // without --resume the folder is refused and left as it was
+    let refused = lopin()
+        .args(ARGS)
+        .arg("--out")
+        .arg(&part)
+        .output()
+        .expect("runs");
+    assert!(!refused.status.success());
+    assert!(String::from_utf8_lossy(&refused.stderr).contains("--resume"));
+    assert_eq!(rows(&part), kept);
+    // another study cannot be resumed into it
+    let other = lopin()
+        .args([
+            "study",
+            "two-blocks",
+            "--param",
+            "f=0:0.3:0.15",
+            "--resume",
+            "--out",
+        ])
+        .arg(&part)
+        .output()
+        .expect("runs");
+    assert!(!other.status.success());
+    let msg = String::from_utf8_lossy(&other.stderr);
+    assert!(
+        msg.contains("study.json") && msg.contains("differs"),
+        "{msg}"
+    );
+    assert_eq!(rows(&part), kept);
+
+    let resumed = lopin()
+        .args(ARGS)
+        .args(["--resume", "--out"])
+        .arg(&part)
+        .output()
+        .expect("runs");
+    assert!(
+        resumed.status.success(),
+        "{}",
+        String::from_utf8_lossy(&resumed.stderr)
+    );
+    let after = rows(&part);
+    assert_eq!(after.len(), 8);
+    for row in &kept {
+        assert!(after.contains(row), "row lost or changed: {row:?}");
+    }
+    let header = std::fs::read_to_string(full.join("study.csv")).expect("test value");
+    let header = header.lines().next().expect("test value").to_string();
+    for ((i, a), (j, b)) in rows(&full).iter().zip(&after) {
+        assert_eq!(i, j);
+        for q in ["peak_normal_force", "energy_end", "input_work"] {
+            let (x, y) = (column(a, &header, q), column(b, &header, q));
+            assert!(
+                (x - y).abs() <= 1e-2 * x.abs(),
+                "configuration {i} {q}: {x} vs {y}"
+            );
+        }
+    }
+}
+
+/// Runs `lopin study two-blocks ARGS --out DIR`, which must fail with a message holding every
+/// one of `needles`, writing nothing.
+fn refused(args: &[&str], needles: &[&str]) {
+    let dir = scratch("bad");
+    let out = lopin()
+        .args(["study", "two-blocks"])
+        .args(args)
+        .arg("--out")
+        .arg(&dir)
+        .output()
+        .expect("runs");
+    let msg = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{args:?} accepted");
+    assert!(!msg.contains("panicked"), "{msg}");
+    for n in needles {
+        assert!(msg.contains(n), "{args:?}: `{n}` not in: {msg}");
+    }
+    assert!(!dir.exists(), "{args:?} wrote {}", dir.display());
+}
+
+#[test]
+fn bad_study_input_is_refused_with_the_option_and_the_reason() {
+    refused(
+        &["--param", "mu=0:1:0.1"],
+        &["--param mu=0:1:0.1", "unknown parameter `mu`"],
+    );
+    refused(
+        &["--param", "f@nowhere=0:0.5:0.1"],
+        &["unknown zone `nowhere`"],
+    );
+    refused(&["--param", "f=0.5:0:0.1"], &["stop ≥ start"]);
+    refused(
+        &["--param", "f=0:0.5:0.1", "--samples", "-5"],
+        &["--samples", "positive"],
+    );
+    refused(
+        &["--param", "f=0:0.5:0.1", "--samples", "0"],
+        &["--samples", "positive"],
+    );
+    refused(
+        &["--param", "f=normal(0.1,0.2)", "--samples", "20"],
+        &["f = -", "non-negative", "normal(0.1, 0.2)", "lognormal"],
+    );
+    refused(&["--param", "gap=-1e-6,0"], &["gap", "non-negative"]);
+    refused(
+        &["--param", "f=uniform(0,1)"],
+        &["distribution", "--samples"],
+    );
+    refused(
+        &["--param", "f=lognormal(0,0)"],
+        &["standard deviation must be positive"],
+    );
+    refused(&["--param", "f=0,1", "--param", "f=0.2"], &["given twice"]);
+    refused(&["--param", "f"], &["--param must look like"]);
+    refused(&["--param", "f=0:0.5:0.1", "--chains", "0"], &["--chains"]);
+    refused(
+        &["--param", "f=0:0.5:0.1", "--resume"],
+        &["--resume", "no study to resume"],
+    );
+}

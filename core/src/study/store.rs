@@ -1,0 +1,218 @@
+//! Converged interface states of a study kept compactly (s in f32: half the memory of f64, and
+//! a warm start needs only a close start, METHOD §8), keyed by their scaled configuration, with
+//! the nearest solved configuration to start the next one from.
+
+use crate::state::{InterfaceState, TraceHistory};
+use crate::study::path::distance;
+
+/// One stored state.
+#[derive(Debug, Clone)]
+struct Compact {
+    /// Scaled configuration.
+    point: Vec<f64>,
+    /// Which configuration it is.
+    index: usize,
+    steps: usize,
+    /// Entries per step of each substructure trace, and whether it was stored here.
+    lens: Vec<(usize, bool)>,
+    /// F then W of every stored trace, f32.
+    values: Vec<f32>,
+}
+
+/// The converged states of a study.
+#[derive(Debug, Clone, Default)]
+pub struct StateStore {
+    entries: Vec<Compact>,
+}
+
+impl StateStore {
+    /// Keeps the state of configuration `index` at scaled point `point`.
+    pub fn insert(&mut self, index: usize, point: &[f64], state: &InterfaceState) {
+        let mut values = Vec::with_capacity(state.size());
+        for h in &state.subs {
+            values.extend(h.f.iter().chain(&h.w).map(|&x| x as f32));
+        }
+        self.entries.push(Compact {
+            point: point.to_vec(),
+            index,
+            steps: state.steps,
+            lens: state
+                .subs
+                .iter()
+                .map(|h| (h.len, !h.f.is_empty()))
+                .collect(),
+            values,
+        });
+    }
+
+    /// The stored configuration nearest `point`: (its index, the distance).
+    pub fn nearest(&self, point: &[f64]) -> Option<(usize, f64)> {
+        self.entries
+            .iter()
+            .map(|e| (e.index, distance(&e.point, point)))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+    }
+
+    /// The state of configuration `index`, in f64.
+    pub fn state(&self, index: usize) -> Option<InterfaceState> {
+        let e = self.entries.iter().find(|e| e.index == index)?;
+        let mut at = 0;
+        let subs = e
+            .lens
+            .iter()
+            .map(|&(len, stored)| {
+                if !stored {
+                    return TraceHistory::absent(len);
+                }
+                let n = len * (e.steps + 1);
+                let take = |at: &mut usize| {
+                    let v: Vec<f64> = e.values[*at..*at + n]
+                        .iter()
+                        .map(|&x| f64::from(x))
+                        .collect();
+                    *at += n;
+                    v
+                };
+                let f = take(&mut at);
+                let w = take(&mut at);
+                TraceHistory { len, f, w }
+            })
+            .collect();
+        Some(InterfaceState {
+            steps: e.steps,
+            subs,
+        })
+    }
+
+    /// A first-order start for `point` from three stored configurations j, k, l whose scaled
+    /// points close a parallelogram with it (point − q_j = q_k − q_l, k ≠ j): the change that
+    /// moving from l to k made, carried over to j. Searched among the `near` stored
+    /// configurations nearest `point`; the one with the shortest sides wins. Returns (j, k, l).
+    pub fn parallelogram(&self, point: &[f64], near: usize) -> Option<(usize, usize, usize)> {
+        let mut close: Vec<(f64, &Compact)> = self
+            .entries
+            .iter()
+            .map(|e| (distance(&e.point, point), e))
+            .collect();
+        close.sort_by(|a, b| a.0.total_cmp(&b.0));
+        close.truncate(near);
+        let mut best: Option<(f64, (usize, usize, usize))> = None;
+        for &(dj, j) in &close {
+            for &(dk, k) in &close {
+                if k.index == j.index {
+                    continue;
+                }
+                for &(_, l) in &close {
+                    if l.index == j.index || l.index == k.index {
+                        continue;
+                    }
+                    let closes = point
+                        .iter()
+                        .zip(&j.point)
+                        .zip(k.point.iter().zip(&l.point))
+                        .all(|((p, qj), (qk, ql))| ((p - qj) - (qk - ql)).abs() < 1e-9);
+                    let size = dj + dk;
+                    if closes && best.is_none_or(|(b, _)| size < b) {
+                        best = Some((size, (j.index, k.index, l.index)));
+                    }
+                }
+            }
+        }
+        best.map(|(_, t)| t)
+    }
+
+    /// s_j + s_k − s_l in f64 (the start of [`Self::parallelogram`]).
+    pub fn combined(&self, j: usize, k: usize, l: usize) -> Option<InterfaceState> {
+        let mut out = self.state(j)?;
+        let (sk, sl) = (self.state(k)?, self.state(l)?);
+        for ((o, a), b) in out.subs.iter_mut().zip(&sk.subs).zip(&sl.subs) {
+            for (x, (y, z)) in o.f.iter_mut().zip(a.f.iter().zip(&b.f)) {
+                *x += y - z;
+            }
+            for (x, (y, z)) in o.w.iter_mut().zip(a.w.iter().zip(&b.w)) {
+                *x += y - z;
+            }
+        }
+        Some(out)
+    }
+
+    /// Scaled distance from stored configuration `index` to `point`.
+    pub fn distance_to(&self, index: usize, point: &[f64]) -> Option<f64> {
+        let e = self.entries.iter().find(|e| e.index == index)?;
+        Some(distance(&e.point, point))
+    }
+
+    /// Number of stored states.
+    pub fn len(&self) -> usize {
+        self.entries.len()
+    }
+
+    /// Whether nothing is stored.
+    pub fn is_empty(&self) -> bool {
+        self.entries.is_empty()
+    }
+
+    /// Bytes of stored values.
+    pub fn bytes(&self) -> usize {
+        self.entries
+            .iter()
+            .map(|e| e.values.len() * 4 + e.point.len() * 8 + e.lens.len() * 16)
+            .sum()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn states_come_back_to_f32_precision_and_the_nearest_is_found() {
+        let state = |x: f64| InterfaceState {
+            steps: 2,
+            subs: vec![
+                TraceHistory {
+                    len: 2,
+                    f: vec![x, 1.0, 2.0, 3.0, 4.0, 5.0],
+                    w: vec![0.1; 6],
+                },
+                TraceHistory::absent(3),
+            ],
+        };
+        let mut store = StateStore::default();
+        store.insert(4, &[0.0, 0.0], &state(1.0 / 3.0));
+        store.insert(9, &[1.0, 0.5], &state(2.0));
+        let (j, d) = store.nearest(&[0.9, 0.4]).expect("nearest");
+        assert_eq!(j, 9);
+        assert!((d - 0.02f64.sqrt()).abs() < 1e-15);
+        let back = store.state(4).expect("stored");
+        assert!((back.subs[0].f[0] - 1.0 / 3.0).abs() < 1e-7);
+        assert_eq!(back.subs[0].f[1..], state(0.0).subs[0].f[1..]);
+        assert!(!back.subs[1].is_present() && back.subs[1].len == 3);
+        assert_eq!(store.bytes(), 2 * (12 * 4 + 16 + 32));
+        assert!(store.state(5).is_none());
+    }
+
+    #[test]
+    fn a_parallelogram_carries_a_change_over() {
+        let state = |x: f64| InterfaceState {
+            steps: 0,
+            subs: vec![TraceHistory {
+                len: 1,
+                f: vec![x],
+                w: vec![2.0 * x],
+            }],
+        };
+        let mut store = StateStore::default();
+        store.insert(0, &[0.0, 0.0], &state(1.0));
+        store.insert(1, &[0.1, 0.0], &state(1.5));
+        store.insert(2, &[0.0, 0.1], &state(3.0));
+        // (0.1, 0.1) = (0.1, 0) + (0, 0.1) − (0, 0)
+        let (j, k, l) = store.parallelogram(&[0.1, 0.1], 8).expect("closes");
+        assert_eq!(l, 0);
+        assert_eq!([j.min(k), j.max(k)], [1, 2]);
+        let s = store.combined(j, k, l).expect("stored");
+        assert_eq!((s.subs[0].f[0], s.subs[0].w[0]), (3.5, 7.0));
+        // nothing closes a parallelogram with (0.2, 0.2)
+        assert!(store.parallelogram(&[0.2, 0.2], 8).is_none());
+    }
+}

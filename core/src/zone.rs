@@ -1,0 +1,168 @@
+//! Zones: interfaces grouped under a name in the scene file (`[[zone]]`), so that each zone's
+//! friction coefficient, initial gap and prescribed velocity amplitude is a parameter of its own
+//! (issue 20; the laws of METHOD §5, the multiresolution restarts of METHOD §8).
+//!
+//! A zone selects the contact interfaces between the body pairs it lists (`bodies`; none: every
+//! pair) whose centre lies in its box (`min`, `max`; none: anywhere), and, for `v0`, the
+//! boundary interfaces with a non-zero prescribed velocity of the bodies it names (none: every
+//! body) whose centre lies in the box. A zone that selects
+//! nothing, names an unknown body or repeats a name is an error naming the field.
+
+use crate::error::{LopinError, Result};
+use crate::interface::{DofLaw, Interface, Law};
+use crate::substructure::Substructure;
+
+/// The interfaces of one zone.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Zone {
+    /// Name in the scene file (how `--param f@NAME` refers to it).
+    pub name: String,
+    /// Contact interfaces (friction, gap).
+    pub contacts: Vec<usize>,
+    /// Boundary interfaces with a prescribed velocity component (v0).
+    pub boundaries: Vec<usize>,
+}
+
+impl Zone {
+    /// Whether interface `i` belongs to the zone.
+    pub fn holds(&self, i: usize) -> bool {
+        self.contacts.binary_search(&i).is_ok() || self.boundaries.binary_search(&i).is_ok()
+    }
+}
+
+/// The zone block of a scene file.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ZoneSpec {
+    /// Name, unique among the zones: letters, digits, `-` and `_`.
+    pub name: String,
+    /// Body pairs whose contact interfaces it holds (empty: every pair).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub bodies: Vec<[String; 2]>,
+    /// Lower corner of the box holding the interfaces' centres (m).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub min: Option<[f64; 3]>,
+    /// Upper corner of that box (m).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max: Option<[f64; 3]>,
+}
+
+/// The centre of an interface: the mean of its first side's nodes.
+fn centre(iface: &Interface, subs: &[Substructure]) -> [f64; 3] {
+    let side = &iface.sides[0];
+    let nodes = &subs[side.sub].mesh.nodes;
+    let mut c = [0.0; 3];
+    for &n in &side.nodes {
+        for q in 0..3 {
+            c[q] += nodes[n][q];
+        }
+    }
+    let count = side.nodes.len().max(1) as f64;
+    c.map(|x| x / count)
+}
+
+/// The zones of a scene resolved on its interfaces; errors name `source` and `zone[i].FIELD`.
+pub fn resolve(
+    specs: &[ZoneSpec],
+    subs: &[Substructure],
+    interfaces: &[Interface],
+    source: &str,
+) -> Result<Vec<Zone>> {
+    let bodies: std::collections::HashSet<&str> = subs.iter().map(|s| s.body.as_str()).collect();
+    let mut zones: Vec<Zone> = Vec::with_capacity(specs.len());
+    for (z, spec) in specs.iter().enumerate() {
+        let field = |f: &str| format!("zone[{z}].{f}");
+        let bad = |f: &str, why: String| LopinError::scene(source, field(f), why);
+        let named = !spec.name.is_empty()
+            && spec
+                .name
+                .chars()
+                .all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_');
+        if !named {
+            return Err(bad(
+                "name",
+                format!(
+                    "`{}` is not a zone name (letters, digits, `-` and `_`)",
+                    spec.name
+                ),
+            ));
+        }
+        if zones.iter().any(|o| o.name == spec.name) {
+            return Err(bad(
+                "name",
+                format!("zone `{}` is defined twice", spec.name),
+            ));
+        }
+        for (p, pair) in spec.bodies.iter().enumerate() {
+            for b in pair {
+                if !bodies.contains(b.as_str()) {
+                    return Err(bad(
+                        &format!("bodies[{p}]"),
+                        format!("no body is named `{b}`"),
+                    ));
+                }
+            }
+        }
+        let (lo, hi) = (
+            spec.min.unwrap_or([f64::NEG_INFINITY; 3]),
+            spec.max.unwrap_or([f64::INFINITY; 3]),
+        );
+        if let Some(q) = (0..3).find(|&q| lo[q].partial_cmp(&hi[q]).is_none_or(|o| o.is_gt())) {
+            return Err(bad(
+                "min",
+                format!("min[{q}] = {} is not below max[{q}] = {}", lo[q], hi[q]),
+            ));
+        }
+        let inside = |iface: &Interface| {
+            let c = centre(iface, subs);
+            (0..3).all(|q| lo[q] <= c[q] && c[q] <= hi[q])
+        };
+        let pair_listed = |a: &str, b: &str| {
+            spec.bodies.is_empty()
+                || spec
+                    .bodies
+                    .iter()
+                    .any(|[x, y]| (x == a && y == b) || (x == b && y == a))
+        };
+        let body_named =
+            |a: &str| spec.bodies.is_empty() || spec.bodies.iter().any(|[x, y]| x == a || y == a);
+        let mut zone = Zone {
+            name: spec.name.clone(),
+            contacts: Vec::new(),
+            boundaries: Vec::new(),
+        };
+        for (i, iface) in interfaces.iter().enumerate() {
+            let body = |s: usize| subs[iface.sides[s].sub].body.as_str();
+            match &iface.law {
+                Law::Contact(_) if pair_listed(body(0), body(1)) && inside(iface) => {
+                    zone.contacts.push(i);
+                }
+                Law::Boundary(dofs)
+                    if dofs
+                        .iter()
+                        .any(|d| matches!(d.law, DofLaw::Velocity(f) if f.amplitude != 0.0))
+                        && body_named(body(0))
+                        && inside(iface) =>
+                {
+                    zone.boundaries.push(i);
+                }
+                _ => {}
+            }
+        }
+        if zone.contacts.is_empty() && zone.boundaries.is_empty() {
+            return Err(bad(
+                if spec.min.is_some() || spec.max.is_some() {
+                    "min"
+                } else {
+                    "bodies"
+                },
+                format!(
+                    "zone `{}` holds no contact interface and no prescribed velocity",
+                    spec.name
+                ),
+            ));
+        }
+        zones.push(zone);
+    }
+    Ok(zones)
+}

@@ -1,0 +1,141 @@
+//! Studies over several parameters (issue 20, `core/src/study/`): a 6 × 2 grid of friction ×
+//! gap on `two-blocks` along the greedy path (friction first), warm-started from the nearest
+//! solved configuration or from a parallelogram of three, against cold solves of every
+//! configuration: fewer iterations, and the same quantities of interest within the tolerance's
+//! reach; two chains solve every configuration once with two cold starts.
+
+use std::sync::Mutex;
+
+use lopin_core::scene;
+use lopin_core::study::runner::{self, Outcome, Predictor, RunOptions};
+use lopin_core::study::{Chains, Design, Path, Spread, Target};
+use lopin_core::time_scheme::TimeScheme;
+use lopin_core::{Settings, Solver};
+
+fn run(chains: usize, cold: bool) -> Vec<Outcome> {
+    run_with(chains, cold, Predictor::Nearest)
+}
+
+fn run_with(chains: usize, cold: bool, predictor: Predictor) -> Vec<Outcome> {
+    let spec = scene::load("two-blocks").expect("scene");
+    let mut problem = scene::build::build(&spec, "two-blocks").expect("builds");
+    problem.scheme = TimeScheme::new(0.5);
+    let mut settings = Settings::for_problem(&problem, &spec.solver);
+    settings.tol = 1e-4;
+    settings.window = None; // the whole interval, as studies run
+    let design = Design::grid(vec![
+        (
+            Target::parse("f", &problem).expect("f"),
+            Spread::parse("0:0.5:0.1").expect("f values"),
+        ),
+        (
+            Target::parse("gap", &problem).expect("gap"),
+            Spread::parse("0,4e-6").expect("gap values"),
+        ),
+    ])
+    .expect("grid");
+    let path = Path::greedy(&design.points);
+    let out = Mutex::new(Vec::new());
+    runner::run(
+        &|| Solver::new(problem.clone(), settings),
+        &design,
+        &Chains::split(&path, chains),
+        RunOptions {
+            cold,
+            compare_cold: false,
+            predictor,
+        },
+        &|_| false,
+        &|o| {
+            out.lock().expect("lock").push(o);
+            Ok(())
+        },
+    )
+    .expect("study");
+    let mut out = out.into_inner().expect("lock");
+    out.sort_by_key(|o| o.index);
+    out
+}
+
+/// Total iterations of a study.
+fn total(o: &[Outcome]) -> usize {
+    o.iter().map(|o| o.iterations).sum()
+}
+
+#[test]
+fn a_warm_grid_costs_a_fraction_of_cold_solves_and_agrees_with_them() {
+    let warm = run(1, false);
+    let para = run_with(1, false, Predictor::Parallelogram);
+    let cold = run(1, true);
+    assert_eq!(warm.len(), 12);
+    let (w, p, c) = (total(&warm), total(&para), total(&cold));
+    println!(
+        "6 x 2 f x gap: warm {w} iterations ({:.2} of cold), parallelogram {p} ({:.2}), cold {c}",
+        w as f64 / c as f64,
+        p as f64 / c as f64
+    );
+    assert!(warm.iter().chain(&para).chain(&cold).all(|o| o.converged));
+    assert!(10 * w <= 8 * c, "warm {w} against cold {c}");
+    assert!(10 * p <= 8 * c, "parallelogram {p} against cold {c}");
+    // exactly one cold start, every other from a solved neighbour one grid step away; the path
+    // moves the gap once
+    assert_eq!(warm.iter().filter(|o| o.start.is_none()).count(), 1);
+    for o in warm.iter().filter(|o| o.start.is_some()) {
+        // one grid step: 0.2 of the scaled f range, or the whole (two-value) gap range
+        let d = o.start_distance.expect("distance");
+        assert!((d - 0.2).abs() < 1e-12 || (d - 1.0).abs() < 1e-12, "{o:?}");
+    }
+    let gap_steps = warm
+        .iter()
+        .filter(|o| o.start.is_some_and(|s| s % 2 != o.index % 2))
+        .count();
+    assert_eq!(gap_steps, 1);
+    // the parallelogram starts close: start + first − second lands on the configuration
+    let points = |i: usize| -> [f64; 2] { [0.1 * (i / 2) as f64, 4e-6 * (i % 2) as f64] };
+    let mut closed = 0;
+    for o in &para {
+        if let (Some(j), Some((k, l))) = (o.start, o.start_change) {
+            closed += 1;
+            for d in 0..2 {
+                let x = points(j)[d] + points(k)[d] - points(l)[d];
+                assert!((x - points(o.index)[d]).abs() < 1e-12, "{o:?}");
+            }
+        }
+    }
+    assert!(closed >= 4, "{closed} parallelogram starts");
+    for (a, b) in warm.iter().chain(&para).zip(cold.iter().chain(&cold)) {
+        assert_eq!(a.index, b.index);
+        let (qa, qb) = (a.quantities.values(), b.quantities.values());
+        for (k, (x, y)) in qa.iter().zip(&qb).enumerate() {
+            // slip and friction work vanish at full stick: compare them on their largest value
+            let scale = x.abs().max(y.abs()).max(match k {
+                1 => 1e-5,
+                4 => 1e-2,
+                _ => 1e-30,
+            });
+            assert!(
+                (x - y).abs() <= 2e-2 * scale,
+                "configuration {}: quantity {k} warm {x:e} cold {y:e}",
+                a.index
+            );
+        }
+    }
+    // no friction work without friction, some with it while the interface slips
+    for o in &warm {
+        let q = o.quantities;
+        if points(o.index)[0] == 0.0 {
+            assert_eq!(q.friction_work, 0.0);
+        } else if q.max_slip > 1e-6 {
+            assert!(q.friction_work > 0.0, "{o:?}");
+        }
+    }
+}
+
+#[test]
+fn two_chains_solve_every_configuration_once_with_two_cold_starts() {
+    let two = run(2, false);
+    let indices: Vec<usize> = two.iter().map(|o| o.index).collect();
+    assert_eq!(indices, (0..12).collect::<Vec<_>>());
+    assert_eq!(two.iter().filter(|o| o.start.is_none()).count(), 2);
+    assert_eq!(two.iter().filter(|o| o.chain == 1).count(), 6);
+}
