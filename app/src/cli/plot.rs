@@ -158,7 +158,10 @@ pub fn quantities(path: &Path, records: &[ValueRecord], param: Parameter) -> any
 
 /// The range of finite values, padded by `share` of its width (or of its magnitude when all are
 /// equal); None when there is no finite value or the padded range is not finite.
-fn padded_range(values: impl Iterator<Item = f64>, share: f64) -> Option<std::ops::Range<f64>> {
+pub(super) fn padded_range(
+    values: impl Iterator<Item = f64>,
+    share: f64,
+) -> Option<std::ops::Range<f64>> {
     let (lo, hi) = values
         .filter(|v| v.is_finite())
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {

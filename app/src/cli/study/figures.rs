@@ -11,9 +11,11 @@ use lopin_core::study::{Design, Quantities};
 use plotters::prelude::*;
 
 use super::stats::{Sensitivity, Statistics};
-use crate::cli::plot::{err, fonts};
+use crate::cli::plot::{err, fonts, padded_range};
 
 const PANEL: (u32, u32) = (420, 300);
+/// Share of an axis' span added on each side.
+const PAD: f64 = 0.06;
 
 /// A tick label: plain for moderate magnitudes, scientific otherwise.
 fn tick(x: &f64) -> String {
@@ -29,20 +31,6 @@ fn tick(x: &f64) -> String {
 fn title(k: usize) -> String {
     let (name, unit) = Quantities::NAMES[k];
     format!("{} ({unit})", name.replace('_', " "))
-}
-
-/// The finite range of `values`, padded; None when there is none.
-fn range(values: impl Iterator<Item = f64>) -> Option<std::ops::Range<f64>> {
-    let (lo, hi) = values
-        .filter(|v| v.is_finite())
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
-            (a.min(v), b.max(v))
-        });
-    let pad = ((hi - lo) * 0.06)
-        .max(hi.abs().max(lo.abs()) * 1e-3)
-        .max(1e-30);
-    let r = (lo - pad)..(hi + pad);
-    (r.start.is_finite() && r.end.is_finite() && r.start < r.end).then_some(r)
 }
 
 /// A colour of the viridis-like scale for t in [0, 1].
@@ -127,8 +115,8 @@ pub fn quantities(path: &FsPath, design: &Design, outcomes: &[Outcome]) -> anyho
                 .filter(|(x, y, _)| x.is_finite() && y.is_finite())
                 .collect();
             let (Some(xr), Some(yr)) = (
-                range(points.iter().map(|q| q.0)),
-                range(points.iter().map(|q| q.1)),
+                padded_range(points.iter().map(|q| q.0), PAD),
+                padded_range(points.iter().map(|q| q.1), PAD),
             ) else {
                 area.titled(
                     &format!("{}: no finite values", title(k)),
@@ -211,7 +199,10 @@ pub fn map(path: &FsPath, design: &Design, outcomes: &[Outcome]) -> anyhow::Resu
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
                 (a.min(v), b.max(v))
             });
-        let (Some(xr), Some(yr)) = (range(xs.iter().copied()), range(ys.iter().copied())) else {
+        let (Some(xr), Some(yr)) = (
+            padded_range(xs.iter().copied(), PAD),
+            padded_range(ys.iter().copied(), PAD),
+        ) else {
             continue;
         };
         let mut chart = chart(
@@ -275,7 +266,7 @@ pub fn histograms(path: &FsPath, outcomes: &[Outcome], stats: &[Statistics]) -> 
             .map(|o| o.quantities.values()[k])
             .filter(|v| v.is_finite())
             .collect();
-        let Some(xr) = range(values.iter().copied()) else {
+        let Some(xr) = padded_range(values.iter().copied(), PAD) else {
             area.titled(
                 &format!("{}: no finite values", title(k)),
                 ("sans-serif", 15),
@@ -353,8 +344,8 @@ pub fn sensitivities(path: &FsPath, design: &Design, sens: &[Sensitivity]) -> an
                 .filter(|(x, y)| x.is_finite() && y.is_finite())
                 .collect();
             let (Some(xr), Some(yr)) = (
-                range(points.iter().map(|q| q.0)),
-                range(points.iter().map(|q| q.1).chain([0.0])),
+                padded_range(points.iter().map(|q| q.0), PAD),
+                padded_range(points.iter().map(|q| q.1).chain([0.0]), PAD),
             ) else {
                 continue;
             };
