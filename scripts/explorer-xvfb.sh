@@ -3,9 +3,12 @@
 #   smoke [SCENE]   : waits for the window, takes a screenshot (out/explorer-smoke.png) and
 #                     checks that the 3D view is drawn (enough colormap-coloured pixels, not just
 #                     the background); without SCENE, `lopin` as the README starts it;
-#   measure [SCENE] : runs `lopin view SCENE --measure` (default two-blocks; slider moves of
-#                     0.05; re-solve latency and frame intervals) and prints the JSON
-#                     (out/explorer-measure.json).
+#   measure [SCENE] : runs `lopin view SCENE --measure` (default two-blocks): stays idle while the
+#                     background study stores the friction slider's range, then moves the
+#                     slider 8 times (stored values and values between them); time to the
+#                     first and to the converged picture of each move, frame intervals idle /
+#                     background study / re-solving; prints the JSON
+#                     (out/explorer-measure.json) and a summary table.
 # Needs: xvfb xauth mesa-vulkan-drivers libvulkan1 imagemagick xdotool (scripts/install-gui-deps.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -34,7 +37,32 @@ unset WAYLAND_DISPLAY
 for _ in $(seq 50); do xdotool getdisplaygeometry >/dev/null 2>&1 && break; sleep 0.1; done
 
 if [ "$mode" = measure ]; then
-    timeout 300 "$bin" view "${scene:-two-blocks}" --measure out/explorer-measure.json
+    timeout 300 "$bin" view "${scene:-two-blocks}" --measure out/explorer-measure.json >/dev/null
+    python3 - out/explorer-measure.json <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+def row(name, key, scale=1.0, unit="s"):
+    s = d[key]
+    print(f"| {name} ({unit}) | {s['count']} | {s['median'] * scale:.3f} | {s['p90'] * scale:.3f} | {s['max'] * scale:.3f} |")
+print(f"background study: {d['study_wait_s']:.1f} s idle before the moves")
+print("| | n | median | p90 | max |")
+print("|---|---|---|---|---|")
+row("slider move → first picture of the new value, presented", "first_picture_s")
+row("slider move → first picture built", "first_picture_built_s")
+row("slider move → converged picture, all moves", "converged_picture_s")
+row("slider move → converged picture, stored values", "converged_picture_stored_s")
+row("slider move → converged picture, refined values", "converged_picture_refined_s")
+row("frame interval idle", "frame_interval_idle_s")
+row("frame interval while the background study solves", "frame_interval_background_study_s")
+row("frame interval while re-solving", "frame_interval_while_solving_s")
+row("UI-thread work per frame, background study", "ui_thread_ms_per_frame_background_study", 1.0, "ms")
+print()
+print("| f | stored | start | iterations | first picture (s) | converged picture (s) |")
+print("|---|---|---|---|---|---|")
+for m in d["moves"]:
+    f = lambda x: "—" if x is None else f"{x:.3f}"
+    print(f"| {m['value']:.3f} | {m['stored']} | {f(m['start'])} | {m['iterations']} | {f(m['first_picture_s'])} | {f(m['converged_picture_s'])} |")
+PY
     exit 0
 fi
 

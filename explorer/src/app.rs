@@ -1,20 +1,23 @@
 //! The explorer application: a thin composition of the scene (facts, geometry) and the
 //! sub-states the panels borrow — [`SolveView`] (parameters, solver status, worker events),
-//! [`FieldCache`] (fields on screen, contact histories, probe), [`Recording`], [`Clock`] and
-//! [`Layout`] (view options, camera, drawn mesh) — with the per-frame order: receive events,
-//! request the fields the screen needs, lay out the panels, rebuild the mesh, draw the 3D view,
-//! re-solve if a parameter moved. The same type runs on the desktop (eframe, wgpu), in the
-//! browser and in tests (egui_kittest).
+//! [`FieldCache`] (fields on screen, contact histories, probe), [`StudyView`] (the background
+//! study's stored configurations, the stand-in picture, the pinned configuration),
+//! [`Recording`], [`Clock`] and [`Layout`] (view options, camera, drawn mesh) — with the
+//! per-frame order: receive events, request the fields the screen needs, lay out the panels,
+//! re-solve if a parameter moved (the nearest stored picture goes on screen at once), rebuild
+//! the mesh, draw the 3D view. The same type runs on the desktop (eframe, wgpu), in the browser
+//! and in tests (egui_kittest).
 
 use crate::clock::Clock;
 use crate::field_cache::FieldCache;
 use crate::geometry::SceneGeometry;
 use crate::layout::Layout;
-use crate::measure::Measure;
+use crate::measure::{Action, FrameState, Measure};
 use crate::params::Params;
 use crate::recorder::RecorderFactory;
 use crate::recording::Recording;
 use crate::solve_view::SolveView;
+use crate::study_view::{Compare, StudyView};
 use crate::worker::Worker;
 use lopin_core::counters::Instant;
 use lopin_core::{scene, Settings};
@@ -83,6 +86,8 @@ pub struct ExplorerApp {
     pub solve: SolveView,
     /// Fields on screen, contact histories and the probe.
     pub cache: FieldCache,
+    /// The background study's configurations, the stand-in and the pinned configuration.
+    pub study: StudyView,
     /// The "record to Rerun" toggle.
     pub recording: Recording,
     /// Displayed time step, playback and frame timing.
@@ -158,6 +163,7 @@ impl ExplorerApp {
             recording.slot(),
         )?;
         let clock = Clock::new(info.steps, info.dt, worker.display_step());
+        let study = StudyView::new(&params);
         let solve = SolveView::start(worker, params);
         let layout = Layout::new(&geo);
         let measure = options.measure.clone().map(Measure::new);
@@ -168,6 +174,7 @@ impl ExplorerApp {
             geometry: Arc::new(geo),
             solve,
             cache: FieldCache::default(),
+            study,
             recording,
             clock,
             layout,
@@ -219,26 +226,85 @@ impl ExplorerApp {
 
     /// Receives worker events and brings caches up to date (called once per frame).
     pub fn pump(&mut self) {
-        self.solve
-            .apply_events(&mut self.cache, &mut self.recording, self.measure.as_mut());
+        self.solve.apply_events(
+            &mut self.cache,
+            &mut self.recording,
+            &mut self.study,
+            self.measure.as_mut(),
+        );
         // fields for the displayed step: the converged ones if cached, else the live iterate
         let (busy, done) = (self.solve.busy(), self.solve.last_done_generation());
+        let newest = self.solve.generation();
         self.cache
-            .show_step(self.clock.step(), busy, done, self.solve.worker());
+            .show_step(self.clock.step(), busy, done, newest, self.solve.worker());
+        let stale = self
+            .study
+            .stand_in
+            .is_some_and(|s| s.generation != newest || !busy);
+        if stale {
+            self.study.stand_in = None;
+        }
+    }
+
+    /// What this frame finds, for the measurement.
+    fn frame_state(&self) -> FrameState {
+        FrameState {
+            busy: self.solve.busy(),
+            converged: self.solve.converged(),
+            background: self.study.running().is_some(),
+            study_complete: self.study.complete(),
+        }
+    }
+
+    /// The note over the 3D view: the stand-in shown while a re-solve refines it, or what is
+    /// compared.
+    fn view_note(&self) -> Option<String> {
+        let compare = match (self.study.compare, self.study.pinned) {
+            (Compare::Difference, Some(a)) => Some(if self.layout.mesh().difference {
+                format!("difference: current − A (f = {a:.3})")
+            } else {
+                format!("A (f = {a:.3}) has no picture at this step yet: current shown")
+            }),
+            _ => None,
+        };
+        let stand_in = self.study.stand_in.map(|s| {
+            if s.exact {
+                format!("stored: f = {:.3}", s.value)
+            } else {
+                format!("nearest stored: f = {:.3}, refining", s.value)
+            }
+        });
+        match (stand_in, compare) {
+            (Some(a), Some(b)) => Some(format!("{a}\n{b}")),
+            (a, b) => a.or(b),
+        }
     }
 
     /// Lays out one frame (shared by eframe and the tests).
     pub fn frame(&mut self, ui: &mut egui::Ui) {
         let started = Instant::now();
         let dt = self.clock.frame();
-        let busy = self.solve.busy();
+        let previous = self.frame_state();
         if let Some(m) = &mut self.measure {
-            m.on_frame(dt, busy);
+            m.on_frame(dt, previous);
         }
         if dt > 0.0 {
             self.solve.worker().set_frame_interval(dt);
         }
         self.pump();
+        // the measurement's slider move arrives with this frame, as a user's would
+        let mut close = false;
+        if let Some(m) = &mut self.measure {
+            match m.next_action(previous) {
+                Action::Wait => {}
+                Action::Move(f) => {
+                    if let Some(p) = &mut self.solve.params_mut().friction {
+                        *p = f;
+                    }
+                }
+                Action::Close => close = true,
+            }
+        }
         if self.clock.advance(dt.min(0.1)) {
             self.ctx.request_repaint();
         }
@@ -248,6 +314,9 @@ impl ExplorerApp {
         }
         crate::panels::left(ui, |ui| {
             crate::panels::parameters(ui, self.solve.params_mut(), &mut self.layout.controls);
+            ui.separator();
+            let friction = self.solve.params().friction;
+            crate::study_panel::show(ui, &mut self.study, friction);
             ui.separator();
             crate::panels::view_options(ui, &mut self.layout, &self.info);
             ui.separator();
@@ -264,37 +333,55 @@ impl ExplorerApp {
         });
         crate::timeline::show(ui, &mut self.clock, &mut self.layout.controls);
         crate::plots::show(ui, &self.solve, &self.cache, &self.clock, &self.info);
-        // after the panels, so a change made in them is drawn in this same frame
-        self.layout
-            .rebuild_mesh_if_needed(&self.geometry, &self.cache);
+        // after the panels, so a change made in them is drawn in this same frame: a new request
+        // puts the nearest stored picture on screen at once
+        if let Some(generation) = self.solve.resolve_if_changed() {
+            let step = self.clock.step();
+            self.study
+                .on_request(generation, self.solve.requested(), step, &mut self.cache);
+            if let Some(m) = &mut self.measure {
+                m.on_request(generation);
+            }
+        }
+        self.study.sync(self.solve.worker());
+        let minus = match self.study.compare {
+            Compare::Difference => self.study.pinned_drawn(self.clock.step()),
+            Compare::Off => None,
+        };
+        let rebuilt =
+            self.layout
+                .rebuild_mesh_if_needed(&self.geometry, &self.cache, minus.as_ref());
+        if let (true, Some(m), Some(f)) = (rebuilt, &mut self.measure, self.cache.shown()) {
+            m.on_mesh(f.generation, f.live);
+        }
+        let note = self.view_note();
         let picked = egui::CentralPanel::default()
             .frame(egui::Frame::NONE)
             .show(ui, |ui| {
-                crate::view3d::show(ui, &mut self.layout, &self.geometry, self.gpu)
+                crate::view3d::show(
+                    ui,
+                    &mut self.layout,
+                    &self.geometry,
+                    self.gpu,
+                    note.as_deref(),
+                )
             })
             .inner;
         if let Some((sub, node)) = picked {
             self.set_probe(sub, node);
         }
-        self.solve.resolve_if_changed();
         if self.solve.needs_frames() {
             // the solver runs on this thread (browser): the next frame goes on with it
             ui.ctx().request_repaint();
+        } else if let Some(wait) = self.solve.worker().idle_wait() {
+            // the background study starts once the user has been idle long enough
+            ui.ctx().request_repaint_after(wait);
         }
-        let (converged, busy) = (self.solve.converged(), self.solve.busy());
+        let now = self.frame_state();
         if let Some(m) = &mut self.measure {
-            m.on_ui_time(started.elapsed().as_secs_f64(), busy);
-            match m.next_action(converged) {
-                crate::measure::Action::Wait => {}
-                crate::measure::Action::Nudge => {
-                    let p = self.solve.params_mut();
-                    if let Some(f) = p.friction {
-                        p.friction = Some(if f >= 0.45 { 0.05 } else { f + 0.05 });
-                    }
-                }
-                crate::measure::Action::Close => {
-                    ui.ctx().send_viewport_cmd(egui::ViewportCommand::Close);
-                }
+            m.on_ui_time(started.elapsed().as_secs_f64(), now);
+            if close {
+                ui.ctx().send_viewport_cmd(egui::ViewportCommand::Close);
             }
             ui.ctx().request_repaint();
         }

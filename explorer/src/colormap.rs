@@ -1,5 +1,6 @@
 //! The perceptual colormap (viridis) and the value range it spans: automatic (min/max of what
-//! is on screen) or fixed by the user.
+//! is on screen) or fixed by the user; for differences, a diverging map (blue below zero, red
+//! above) on a range symmetric about zero.
 
 /// How the colour range is chosen.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -45,6 +46,34 @@ pub fn color(value: f64, lo: f64, hi: f64) -> [f32; 3] {
     ]
 }
 
+/// The range of a difference field: automatic is ±(largest |value|), so zero sits in the
+/// middle; never empty.
+pub fn resolve_symmetric(range: Range, values: impl Iterator<Item = f64>) -> (f64, f64) {
+    match range {
+        Range::Auto => {
+            let m = values
+                .filter(|v| v.is_finite())
+                .fold(0.0, |m: f64, v| m.max(v.abs()));
+            let m = if m > 0.0 { m } else { 1e-12 };
+            (-m, m)
+        }
+        fixed => resolve(fixed, std::iter::empty()),
+    }
+}
+
+/// Colour of a difference `value` in [lo, hi] (clamped) on the diverging blue–white–red map,
+/// as sRGB in [0, 1].
+pub fn diverging(value: f64, lo: f64, hi: f64) -> [f32; 3] {
+    let t = ((value - lo) / (hi - lo)).clamp(0.0, 1.0);
+    // RdBu runs red to blue: reversed, so negative is blue
+    let c = colorous::RED_BLUE.eval_continuous(1.0 - if t.is_finite() { t } else { 0.5 });
+    [
+        f32::from(c.r) / 255.0,
+        f32::from(c.g) / 255.0,
+        f32::from(c.b) / 255.0,
+    ]
+}
+
 /// The grey of surfaces that carry no value (bodies around an interface field).
 pub const NEUTRAL: [f32; 3] = [0.72, 0.72, 0.74];
 
@@ -74,5 +103,19 @@ mod tests {
         assert_eq!(resolve(Range::Auto, std::iter::empty()), (0.0, 1.0));
         let fixed = Range::Fixed { min: 0.0, max: 5.0 };
         assert_eq!(resolve(fixed, [100.0].into_iter()), (0.0, 5.0));
+    }
+
+    #[test]
+    fn a_difference_range_is_symmetric_and_zero_is_the_middle_colour() {
+        assert_eq!(
+            resolve_symmetric(Range::Auto, [-1.0, 3.0].into_iter()),
+            (-3.0, 3.0)
+        );
+        let (lo, hi) = resolve_symmetric(Range::Auto, [0.0, 0.0].into_iter());
+        assert!(lo < 0.0 && hi > 0.0 && lo == -hi);
+        let white = diverging(0.0, -1.0, 1.0);
+        assert!(white.iter().all(|&c| c > 0.9), "{white:?}");
+        let (blue, red) = (diverging(-1.0, -1.0, 1.0), diverging(1.0, -1.0, 1.0));
+        assert!(blue[2] > blue[0] && red[0] > red[2], "{blue:?} {red:?}");
     }
 }

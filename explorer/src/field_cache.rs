@@ -1,7 +1,8 @@
 //! The fields the screen needs, as they arrive from the worker: the converged fields of the
 //! steps already seen (cleared when a newer solution arrives), the live iterate of a running
-//! solve, the fields on screen and the step requested, the contact histories of the newest
-//! solution or iterate, and the probe (the picked node and its history).
+//! solve (or the stored picture standing in for it), the fields on screen and the step
+//! requested, the contact histories of the newest solution or iterate, and the probe (the picked
+//! node and its history).
 
 use crate::fields::StepFields;
 use crate::protocol::ProbeHistory;
@@ -58,16 +59,24 @@ impl FieldCache {
         worker.request_probe(sub, node);
     }
 
-    /// Puts on screen the fields of `step`: the converged ones if cached (and of the newest
-    /// finished solve, `done_generation`), else the live iterate while `busy`, else asks the
-    /// worker for them (once).
+    /// Puts on screen the fields of `step`: while the newest request (`newest`) is `busy`, its
+    /// live iterate (or stand-in) if there is one; else the converged ones if cached (and of the
+    /// newest finished solve, `done_generation`), else the live iterate while `busy`, else asks
+    /// the worker for them (once).
     pub fn show_step(
         &mut self,
         step: usize,
         busy: bool,
         done_generation: u64,
+        newest: u64,
         worker: &mut Worker,
     ) {
+        if busy {
+            if let Some(l) = self.live.as_ref().filter(|l| l.generation == newest) {
+                self.shown = Some(l.clone());
+                return;
+            }
+        }
         let exact = self
             .steps
             .get(&step)
@@ -105,6 +114,15 @@ impl FieldCache {
             }
             self.steps.insert(f.step, f);
         }
+    }
+
+    /// Puts a stored configuration's picture on screen at once in place of the newest request's
+    /// live iterate, until the solve sends a newer one or converges (`fields` carry the
+    /// request's generation; not live when they are the requested value's own).
+    pub fn show_stand_in(&mut self, fields: Arc<StepFields>, contact: Arc<Vec<ContactHistory>>) {
+        self.live = Some(fields.clone());
+        self.shown = Some(fields);
+        self.contact = Some(contact);
     }
 
     /// Takes the contact histories of the newest solve.

@@ -1,6 +1,6 @@
 //! How the scene is drawn: the view options (coloured quantity, colour range, deformation,
-//! exploded view, section), the camera, the drawn mesh (rebuilt when the fields on screen or an
-//! option change), and where the 3D view and the controls a script clicks were drawn in the last
+//! exploded view, section), the camera, the drawn mesh (rebuilt when the fields on screen, the
+//! configuration subtracted from them or an option change), and where the 3D view and the controls a script clicks were drawn in the last
 //! frame.
 
 use crate::camera::Camera;
@@ -10,6 +10,7 @@ use crate::geometry::SceneGeometry;
 use crate::mesh_build::{self, MeshData, MeshInputs};
 use crate::quantity::Quantity;
 use crate::section::Section;
+use crate::study_view::Drawn;
 use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
@@ -98,8 +99,9 @@ pub struct Layout {
     mesh: Arc<MeshData>,
     /// Its version, unique across scenes.
     mesh_version: u64,
-    /// What the drawn mesh was built from: fields, contact histories, options.
-    mesh_key: Option<(usize, usize, MeshInputs)>,
+    /// What the drawn mesh was built from: fields, contact histories, the fields subtracted,
+    /// options.
+    mesh_key: Option<(usize, usize, usize, MeshInputs)>,
     /// Where the 3D view was drawn in the last frame, points.
     view_rect: Option<egui::Rect>,
 }
@@ -182,24 +184,33 @@ impl Layout {
         }
     }
 
-    /// Rebuilds the drawn mesh if the fields on screen, the contact histories or the options
-    /// changed since the last build.
-    pub fn rebuild_mesh_if_needed(&mut self, geometry: &SceneGeometry, cache: &FieldCache) {
+    /// Rebuilds the drawn mesh if the fields on screen, the contact histories, the
+    /// configuration subtracted (`minus`: the difference field) or the options changed since
+    /// the last build. Returns whether it rebuilt.
+    pub fn rebuild_mesh_if_needed(
+        &mut self,
+        geometry: &SceneGeometry,
+        cache: &FieldCache,
+        minus: Option<&Drawn>,
+    ) -> bool {
         let Some(f) = cache.shown() else {
-            return;
+            return false;
         };
         let inputs = self.mesh_inputs(geometry);
         let key = (
             Arc::as_ptr(f) as usize,
             cache.contact().map_or(0, |c| Arc::as_ptr(c) as usize),
+            minus.map_or(0, |m| Arc::as_ptr(&m.0) as usize),
             inputs,
         );
         if self.mesh_key == Some(key) {
-            return;
+            return false;
         }
         let contact = cache.contact().map(|c| c.as_slice());
-        self.mesh = Arc::new(mesh_build::build(geometry, f, contact, &inputs));
+        let minus = minus.map(|(f, c)| (f.as_ref(), Some(c.as_slice())));
+        self.mesh = Arc::new(mesh_build::build(geometry, f, contact, &inputs, minus));
         self.mesh_version = MESH_VERSION.fetch_add(1, Ordering::Relaxed);
         self.mesh_key = Some(key);
+        true
     }
 }

@@ -2,7 +2,9 @@
 //! coloured by von Mises stress, velocity or contact quantities, with a section plane, a time
 //! scrubber, probes, and parameter sliders whose every move launches a warm-started LATIN
 //! re-solve (METHOD §8) in a background thread (a few iterations per frame in the browser), streamed live into the view with a live
-//! convergence plot of η (METHOD §7). Shared by the desktop binary and the web build.
+//! convergence plot of η (METHOD §7); while the user is idle, a background study solves the
+//! friction slider's range and keeps every converged configuration, so a slider move shows the
+//! nearest stored picture at once (issue 20). Shared by the desktop binary and the web build.
 
 pub mod app;
 pub mod camera;
@@ -17,6 +19,7 @@ pub mod mesh_build;
 pub mod page_report;
 pub mod panels;
 pub mod params;
+pub mod picture;
 pub mod plots;
 pub mod protocol;
 pub mod quantity;
@@ -26,6 +29,9 @@ pub mod render;
 pub mod section;
 mod service;
 pub mod solve_view;
+pub mod study;
+pub mod study_panel;
+pub mod study_view;
 pub mod timeline;
 pub mod view3d;
 pub mod worker;

@@ -1,42 +1,104 @@
-//! Self-measurement of the explorer (`lopin view SCENE --measure FILE`): after the first
-//! converged solve, the friction coefficient is moved by 0.05 several times, as a user would
-//! with the slider, and the time from each change to its converged re-solve and the frame
-//! intervals while re-solves run are recorded, printed and written as JSON. Then the window
-//! closes.
+//! Self-measurement of the explorer (`lopin view SCENE --measure FILE`), as a user who paused
+//! and then moves the friction slider: after the first converged solve the explorer stays idle
+//! while the background study stores the slider's range (or for at most [`STUDY_MAX_S`]), then
+//! the friction coefficient is set to [`MOVES`] values in turn (alternately a stored grid value
+//! and one between two grid values, which is refined warm from its nearest stored neighbour),
+//! each at the start of a frame as a slider event would arrive. Per move it records the time to
+//! the first picture of the new value (the stored or nearest stored picture, a live iterate or
+//! the converged fields: the first mesh built from them, and the start of the next frame, when
+//! that frame has been presented) and to the converged picture, and the change → converged
+//! report latency; over the whole run, the frame intervals while idle, while the background
+//! study solves and while a re-solve runs. The results are printed and written as JSON, then the
+//! window closes.
 
 use crate::protocol::SolveReport;
+use lopin_core::counters::Instant;
 use std::path::PathBuf;
 
-/// Slider moves measured.
-const MOVES: usize = 8;
-/// Frames drawn between a converged re-solve and the next move.
+/// The friction values moved to, in order: stored grid values alternate with values halfway
+/// between two grid values.
+pub const MOVES: [f64; 8] = [0.35, 0.375, 0.45, 0.525, 0.05, 0.125, 0.2, 0.275];
+/// Frames drawn between a converged picture and the next move.
 const SETTLE_FRAMES: usize = 20;
+/// Longest idle wait for the background study, s.
+pub const STUDY_MAX_S: f64 = 90.0;
 
 /// What the explorer does next.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Action {
     /// Nothing.
     Wait,
-    /// Move the friction slider by 0.05.
-    Nudge,
+    /// Set the friction slider to this value (at the start of this frame).
+    Move(f64),
     /// Write the results and close.
     Close,
+}
+
+/// What a frame found.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct FrameState {
+    /// The newest request is being solved.
+    pub busy: bool,
+    /// The newest request converged.
+    pub converged: bool,
+    /// The background study is solving.
+    pub background: bool,
+    /// Every value of the study's grid is stored.
+    pub study_complete: bool,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Phase {
+    /// Waiting for the first converged solve.
+    Start,
+    /// Idle while the background study runs.
+    Study,
+    /// Moving the slider.
+    Moves,
+    Done,
+}
+
+/// One slider move as measured.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+struct MoveRecord {
+    value: f64,
+    /// The value was stored: shown without solving.
+    stored: bool,
+    generation: u64,
+    /// Input → first mesh of the new value built, s.
+    first_picture_built_s: Option<f64>,
+    /// Input → start of the frame after it (the picture presented), s.
+    first_picture_s: Option<f64>,
+    /// Input → converged mesh built, s.
+    converged_built_s: Option<f64>,
+    /// Input → start of the frame after it, s.
+    converged_picture_s: Option<f64>,
+    /// Change → converged report, s.
+    report_latency_s: Option<f64>,
+    iterations: Option<usize>,
+    /// Friction of the state it started from.
+    start: Option<f64>,
 }
 
 /// The measurement in progress.
 #[derive(Debug, Clone)]
 pub struct Measure {
     path: PathBuf,
-    moves: usize,
-    waiting: bool,
+    phase: Phase,
     settle: usize,
-    latencies: Vec<f64>,
-    iterations: Vec<usize>,
-    busy_frames: Vec<f64>,
+    study_started: Option<Instant>,
+    study_s: f64,
+    moves: Vec<MoveRecord>,
+    /// Frame start of the newest move.
+    move_start: Option<Instant>,
+    /// The first / converged picture was built in the last frame: stamp the next frame start.
+    pending: [bool; 2],
     idle_frames: Vec<f64>,
+    background_frames: Vec<f64>,
+    busy_frames: Vec<f64>,
     busy_ui: Vec<f64>,
+    background_ui: Vec<f64>,
     idle_ui: Vec<f64>,
-    done: bool,
 }
 
 fn stats(v: &[f64]) -> Stats {
@@ -71,88 +133,194 @@ impl Measure {
     pub fn new(path: PathBuf) -> Measure {
         Measure {
             path,
-            moves: 0,
-            waiting: false,
+            phase: Phase::Start,
             settle: SETTLE_FRAMES,
-            latencies: Vec::new(),
-            iterations: Vec::new(),
-            busy_frames: Vec::new(),
+            study_started: None,
+            study_s: 0.0,
+            moves: Vec::new(),
+            move_start: None,
+            pending: [false; 2],
             idle_frames: Vec::new(),
+            background_frames: Vec::new(),
+            busy_frames: Vec::new(),
             busy_ui: Vec::new(),
+            background_ui: Vec::new(),
             idle_ui: Vec::new(),
-            done: false,
         }
     }
 
-    /// Records one frame interval.
-    pub fn on_frame(&mut self, dt: f64, busy: bool) {
-        if self.moves == 0 || dt <= 0.0 {
+    /// Records one frame interval (from the start of the previous frame to this one's) under
+    /// what the previous frame found, and stamps the pictures the previous frame built.
+    pub fn on_frame(&mut self, dt: f64, previous: FrameState) {
+        if let (Some(t0), Some(m)) = (self.move_start, self.moves.last_mut()) {
+            let now = t0.elapsed().as_secs_f64();
+            if self.pending[0] {
+                m.first_picture_s = Some(now);
+            }
+            if self.pending[1] {
+                m.converged_picture_s = Some(now);
+            }
+        }
+        self.pending = [false; 2];
+        if self.phase == Phase::Start || dt <= 0.0 {
             return;
         }
-        if busy {
-            self.busy_frames.push(dt);
+        self.bin(previous).0.push(dt);
+    }
+
+    fn bin(&mut self, s: FrameState) -> (&mut Vec<f64>, &mut Vec<f64>) {
+        if s.busy {
+            (&mut self.busy_frames, &mut self.busy_ui)
+        } else if s.background {
+            (&mut self.background_frames, &mut self.background_ui)
         } else {
-            self.idle_frames.push(dt);
+            (&mut self.idle_frames, &mut self.idle_ui)
         }
     }
 
     /// Records the time the UI thread spent laying out one frame (logic, mesh rebuild, panels).
-    pub fn on_ui_time(&mut self, seconds: f64, busy: bool) {
-        if self.moves == 0 {
+    pub fn on_ui_time(&mut self, seconds: f64, s: FrameState) {
+        if self.phase != Phase::Start {
+            self.bin(s).1.push(seconds);
+        }
+    }
+
+    /// The move's request went out with this generation.
+    pub fn on_request(&mut self, generation: u64) {
+        if let Some(m) = self.moves.last_mut() {
+            if m.generation == 0 {
+                m.generation = generation;
+            }
+        }
+    }
+
+    /// A mesh was built from fields of `generation` (`live`: not converged yet).
+    pub fn on_mesh(&mut self, generation: u64, live: bool) {
+        let (Some(t0), Some(m)) = (self.move_start, self.moves.last_mut()) else {
+            return;
+        };
+        if generation != m.generation || m.generation == 0 {
             return;
         }
-        if busy {
-            self.busy_ui.push(seconds);
-        } else {
-            self.idle_ui.push(seconds);
+        let now = t0.elapsed().as_secs_f64();
+        if m.first_picture_built_s.is_none() {
+            m.first_picture_built_s = Some(now);
+            self.pending[0] = true;
+        }
+        if !live && m.converged_built_s.is_none() {
+            m.converged_built_s = Some(now);
+            self.pending[1] = true;
         }
     }
 
     /// Records the end of a solve.
     pub fn on_finished(&mut self, report: &SolveReport, latency: Option<f64>) {
-        if self.waiting && report.converged && !report.cancelled {
-            if let Some(l) = latency {
-                self.latencies.push(l);
-                self.iterations.push(report.iterations);
+        if let Some(m) = self.moves.last_mut() {
+            if report.generation == m.generation && report.converged && !report.cancelled {
+                m.report_latency_s = latency;
+                m.iterations = Some(report.iterations);
+                m.start = report.start;
+                m.stored = report.from_store;
             }
-            self.waiting = false;
-            self.settle = SETTLE_FRAMES;
         }
     }
 
-    /// The next step of the measurement.
-    pub fn next_action(&mut self, converged: bool) -> Action {
-        if self.done || self.waiting || !converged {
-            return Action::Wait;
+    /// The next step of the measurement, at the start of a frame.
+    pub fn next_action(&mut self, s: FrameState) -> Action {
+        match self.phase {
+            Phase::Start => {
+                if s.converged && self.settled() {
+                    self.phase = Phase::Study;
+                    self.study_started = Some(Instant::now());
+                }
+                Action::Wait
+            }
+            Phase::Study => {
+                let waited = self
+                    .study_started
+                    .map_or(0.0, |t| t.elapsed().as_secs_f64());
+                if (s.study_complete && !s.background) || waited > STUDY_MAX_S {
+                    self.study_s = waited;
+                    self.phase = Phase::Moves;
+                    self.settle = 0;
+                }
+                Action::Wait
+            }
+            Phase::Moves => {
+                let done = self
+                    .moves
+                    .last()
+                    .is_none_or(|m| m.converged_picture_s.is_some());
+                if !(done && s.converged && self.settled()) {
+                    return Action::Wait;
+                }
+                let Some(&value) = MOVES.get(self.moves.len()) else {
+                    self.phase = Phase::Done;
+                    self.report();
+                    return Action::Close;
+                };
+                self.moves.push(MoveRecord {
+                    value,
+                    stored: false,
+                    generation: 0,
+                    first_picture_built_s: None,
+                    first_picture_s: None,
+                    converged_built_s: None,
+                    converged_picture_s: None,
+                    report_latency_s: None,
+                    iterations: None,
+                    start: None,
+                });
+                self.move_start = Some(Instant::now());
+                self.settle = SETTLE_FRAMES;
+                Action::Move(value)
+            }
+            Phase::Done => Action::Wait,
         }
+    }
+
+    fn settled(&mut self) -> bool {
         if self.settle > 0 {
             self.settle -= 1;
-            return Action::Wait;
+            return false;
         }
-        if self.moves < MOVES {
-            self.moves += 1;
-            self.waiting = true;
-            return Action::Nudge;
-        }
-        self.done = true;
-        self.report();
-        Action::Close
+        true
     }
 
     fn report(&self) {
         let ms = |v: &[f64]| stats(&v.iter().map(|x| 1e3 * x).collect::<Vec<_>>());
-        let (busy, idle) = (stats(&self.busy_frames), stats(&self.idle_frames));
+        let pick = |f: fn(&MoveRecord) -> Option<f64>, stored: Option<bool>| -> Vec<f64> {
+            self.moves
+                .iter()
+                .filter(|m| stored.is_none_or(|s| m.stored == s))
+                .filter_map(f)
+                .collect()
+        };
+        let first = |m: &MoveRecord| m.first_picture_s;
+        let converged = |m: &MoveRecord| m.converged_picture_s;
+        let (busy, idle, bg) = (
+            stats(&self.busy_frames),
+            stats(&self.idle_frames),
+            stats(&self.background_frames),
+        );
         let report = serde_json::json!({
-            "moves": self.latencies.len(),
-            "resolve_latency_s": stats(&self.latencies),
-            "resolve_latency_all_s": self.latencies,
-            "iterations": self.iterations,
-            "frame_interval_while_solving_s": busy,
-            "fps_while_solving_median": 1.0 / busy.median,
+            "moves": self.moves,
+            "study_wait_s": self.study_s,
+            "first_picture_s": stats(&pick(first, None)),
+            "first_picture_built_s": stats(&pick(|m| m.first_picture_built_s, None)),
+            "converged_picture_s": stats(&pick(converged, None)),
+            "converged_picture_stored_s": stats(&pick(converged, Some(true))),
+            "converged_picture_refined_s": stats(&pick(converged, Some(false))),
+            "report_latency_s": stats(&pick(|m| m.report_latency_s, None)),
             "frame_interval_idle_s": idle,
             "fps_idle_median": 1.0 / idle.median,
-            "ui_thread_ms_per_frame_while_solving": ms(&self.busy_ui),
+            "frame_interval_background_study_s": bg,
+            "fps_background_study_median": 1.0 / bg.median,
+            "frame_interval_while_solving_s": busy,
+            "fps_while_solving_median": 1.0 / busy.median,
             "ui_thread_ms_per_frame_idle": ms(&self.idle_ui),
+            "ui_thread_ms_per_frame_background_study": ms(&self.background_ui),
+            "ui_thread_ms_per_frame_while_solving": ms(&self.busy_ui),
         });
         let text = format!("{report:#}\n");
         print!("{text}");

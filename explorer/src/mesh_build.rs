@@ -1,6 +1,8 @@
 //! Turns the fields of the displayed step into the triangles the GPU draws: each
 //! substructure's boundary faces (deformed, exploded, coloured through the colormap) and the
-//! faces cut by the section plane. Rebuilt only when an input changes, never for a camera move.
+//! faces cut by the section plane; or, to compare two configurations, the difference of their
+//! nodal values on a symmetric diverging colour range. Rebuilt only when an input changes, never
+//! for a camera move.
 
 use crate::colormap::{self, Range};
 use crate::fields::StepFields;
@@ -49,6 +51,8 @@ pub struct MeshData {
     pub range: (f64, f64),
     /// Min and max of the displayed values, display units.
     pub extent: (f64, f64),
+    /// Whether it shows a difference of two configurations (diverging colours).
+    pub difference: bool,
 }
 
 /// What the drawn mesh depends on.
@@ -66,19 +70,17 @@ pub struct MeshInputs {
     pub section: Option<Section>,
 }
 
-/// Builds the mesh. `contact`: contact histories of the same solution (for interface
-/// quantities); `step`: the displayed step.
-pub fn build(
+/// Nodal values of quantity `q` in display units, per substructure (None: no value there, as
+/// off the contact interfaces for an interface quantity). `contact`: contact histories of the
+/// same solution as `fields`.
+pub fn nodal_values(
     geo: &SceneGeometry,
     fields: &StepFields,
     contact: Option<&[ContactHistory]>,
-    inputs: &MeshInputs,
-) -> MeshData {
-    let q = inputs.quantity;
+    q: Quantity,
+) -> Vec<Vec<Option<f64>>> {
     let step = fields.step;
-    // nodal values in display units (None: no value, drawn neutral)
-    let values: Vec<Vec<Option<f64>>> = geo
-        .subs
+    geo.subs
         .iter()
         .zip(&fields.subs)
         .map(|(g, f)| {
@@ -102,13 +104,57 @@ pub fn build(
                 })
                 .collect()
         })
-        .collect();
+        .collect()
+}
+
+/// The node-by-node difference `a − b` of two sets of nodal values (None where either has none).
+pub fn difference(a: &[Vec<Option<f64>>], b: &[Vec<Option<f64>>]) -> Vec<Vec<Option<f64>>> {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| x.iter().zip(y).map(|(p, q)| Some((*p)? - (*q)?)).collect())
+        .collect()
+}
+
+/// A configuration to subtract from the drawn one: its fields at the same step and its contact
+/// histories.
+pub type Minus<'a> = (&'a StepFields, Option<&'a [ContactHistory]>);
+
+/// Builds the mesh. `contact`: contact histories of the same solution (for interface
+/// quantities); `minus`: a configuration whose values are subtracted (the difference field,
+/// coloured on a symmetric range).
+pub fn build(
+    geo: &SceneGeometry,
+    fields: &StepFields,
+    contact: Option<&[ContactHistory]>,
+    inputs: &MeshInputs,
+    minus: Option<Minus<'_>>,
+) -> MeshData {
+    let q = inputs.quantity;
+    let mut values = nodal_values(geo, fields, contact, q);
+    if let Some((f, c)) = minus {
+        values = difference(&values, &nodal_values(geo, f, c, q));
+    }
     let extent = colormap::resolve(Range::Auto, values.iter().flatten().flatten().copied());
-    let (lo, hi) = colormap::resolve(inputs.range, values.iter().flatten().flatten().copied());
-    let color = |v: Option<f64>| v.map_or(colormap::NEUTRAL, |v| colormap::color(v, lo, hi));
+    let all = values.iter().flatten().flatten().copied();
+    let diverging = minus.is_some();
+    let (lo, hi) = if diverging {
+        colormap::resolve_symmetric(inputs.range, all)
+    } else {
+        colormap::resolve(inputs.range, all)
+    };
+    let color = |v: Option<f64>| {
+        v.map_or(colormap::NEUTRAL, |v| {
+            if diverging {
+                colormap::diverging(v, lo, hi)
+            } else {
+                colormap::color(v, lo, hi)
+            }
+        })
+    };
     let mut out = MeshData {
         range: (lo, hi),
         extent,
+        difference: diverging,
         ..MeshData::default()
     };
     for (i, (g, f)) in geo.subs.iter().zip(&fields.subs).enumerate() {

@@ -61,6 +61,10 @@ fn status_label(ui: &mut egui::Ui, solve: &SolveView, reproducible: bool) {
         SolveStatus::Running {
             iterations, eta, ..
         } => format!("solving: iteration {iterations}, η = {eta:.2e}"),
+        SolveStatus::Done(r) if r.from_store => match r.params.friction {
+            Some(f) => format!("stored: f = {f:.3}, shown without solving"),
+            None => "stored: shown without solving".to_string(),
+        },
         SolveStatus::Done(r) if r.converged => {
             let mut t = format!(
                 "converged: {} iterations{}, η = {:.2e}",

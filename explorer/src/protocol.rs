@@ -1,14 +1,17 @@
 //! The messages between the explorer's two sides: the requests the UI sends (a solve with new
 //! parameters, fields at a step, a probe, a recording), the events the solver side answers with
 //! (η per iteration, live and converged fields, contact histories, solve reports, probe
-//! histories, recording outcomes, errors), and the displayed time step both sides share. The UI
+//! histories, recording outcomes, the study's stored configurations, errors), and the displayed
+//! time step both sides share. The UI
 //! side ([`crate::worker`]) and the solver side ([`crate::service`]) depend on this module and
 //! on nothing of each other's messages.
 
 use crate::fields::StepFields;
 use crate::params::Params;
+use crate::picture::Picture;
 use lopin_core::counters::StageTimes;
 use lopin_core::post::ContactHistory;
+use lopin_core::study::Quantities;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
 
@@ -23,6 +26,49 @@ pub(crate) enum Request {
     Probe { sub: usize, node: usize },
     /// Record the newest converged solution.
     Record,
+    /// Pause or resume the background study, and how long the user must be idle before it runs.
+    Study(StudyControl),
+}
+
+/// How the background study runs.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StudyControl {
+    /// No background solve while paused.
+    pub paused: bool,
+    /// Seconds without a parameter change (and with no re-solve running) before it runs.
+    pub idle_s: f64,
+}
+
+impl Default for StudyControl {
+    fn default() -> Self {
+        StudyControl {
+            paused: false,
+            idle_s: 1.0,
+        }
+    }
+}
+
+/// A converged configuration the solver side stored (a background solve, a user's re-solve, or
+/// a new picture of a stored one at another time step).
+#[derive(Debug, Clone, PartialEq)]
+pub struct StoredConfig {
+    /// Friction coefficient.
+    pub value: f64,
+    /// Iterations of its solve.
+    pub iterations: usize,
+    /// Whether the background study solved it.
+    pub background: bool,
+    /// The friction coefficient of the state its solve started from (None: cold, or a picture
+    /// of a configuration stored before).
+    pub start: Option<f64>,
+    /// Its quantities of interest.
+    pub quantities: Quantities,
+    /// What the UI draws of it at once.
+    pub picture: Picture,
+    /// Configurations stored on the solver side.
+    pub stored: usize,
+    /// Bytes of their states (s and ŝ in f32) on the solver side.
+    pub store_bytes: usize,
 }
 
 /// How a solve ended.
@@ -42,6 +88,11 @@ pub struct SolveReport {
     pub cancelled: bool,
     /// Whether it started from a previous state (warm) or from zero (cold).
     pub warm: bool,
+    /// The friction coefficient of the state it started from (a stored configuration or the
+    /// newest state), or, with `from_store`, of the one shown; None: cold.
+    pub start: Option<f64>,
+    /// Whether the value was stored already and is shown without solving (0 iterations).
+    pub from_store: bool,
     /// Wall time of the solve (without post-processing), seconds.
     pub solve_s: f64,
     /// Engine stage times accumulated over the scene (setup, local, linear, post).
@@ -97,6 +148,16 @@ pub enum Event {
     RecordFailed(String),
     /// A request failed (bad parameter): the message says which and why.
     Error(String),
+    /// The study's library was emptied (a parameter other than friction moved): it covers
+    /// these friction values.
+    StudyReset {
+        /// The background study's values.
+        grid: Vec<f64>,
+    },
+    /// A configuration was stored, or a stored one pictured at the displayed step.
+    Stored(Arc<StoredConfig>),
+    /// The background study started solving this friction value (None: it stopped).
+    Background(Option<f64>),
 }
 
 /// The time step on screen, shared by the UI (which moves it) and the solver side (which

@@ -1,33 +1,61 @@
 //! The solver side of the explorer's worker: owns the [`Solver`] (factorizations computed once
-//! per scene, METHOD §4), re-solves warm from the newest interface state whenever a parameter
-//! moves (METHOD §8 multiresolution), and answers field, probe and record requests. It is a
+//! per scene, METHOD §4), re-solves warm whenever a parameter moves (METHOD §8 multiresolution:
+//! from the nearest stored configuration, or the newest interface state), and answers field,
+//! probe and record requests. It also runs the background study ([`crate::study`]): when the
+//! user has been idle for a while, it solves the friction grid's values nearest-first, each warm
+//! from its nearest stored neighbour, and keeps every converged configuration (states in f32,
+//! a picture for the UI), so a value already stored is shown again without solving. It is a
 //! state machine advanced one [`Service::tick`] at a time (one LATIN iteration or one request),
 //! so the same code runs on a background thread on the desktop and a few iterations per frame
 //! in the browser, where there are no threads. A newer solve request cancels the running solve
-//! at the next tick; the cancelled iterate is still the best start for the new one. It reads
-//! and writes only the messages of [`crate::protocol`].
+//! (the user's or the background's) at the next tick; a cancelled user iterate is still a good
+//! start for the new one. It reads and writes only the messages of [`crate::protocol`].
 
-use crate::fields;
+use crate::fields::{self, StepFields};
 use crate::params::Params;
-use crate::protocol::{DisplayStep, Event, ProbeHistory, Request, SolveReport};
+use crate::picture::Picture;
+use crate::protocol::{
+    DisplayStep, Event, ProbeHistory, Request, SolveReport, StoredConfig, StudyControl,
+};
 use crate::recorder::{RecordedSolve, RecorderSlot};
+use crate::study::{self, Library};
 use lopin_core::counters::{Instant, IterationRecord};
 use lopin_core::post;
-use lopin_core::{Control, Problem, Solution, SolveRun, Solver};
+use lopin_core::study::Quantities;
+use lopin_core::{Control, InterfaceState, Problem, Solution, SolveRun, Solver};
 use std::sync::mpsc::Sender;
 use std::sync::Arc;
+use std::time::Duration;
 
 /// Seconds between two live field updates while a solve runs.
 const LIVE_PERIOD_S: f64 = 0.12;
 
+/// Who asked for a solve.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Origin {
+    /// The user, with the generation of the change.
+    User(u64),
+    /// The background study.
+    Background,
+}
+
 /// A solve between two ticks.
 struct Running {
-    generation: u64,
+    origin: Origin,
     params: Params,
     run: SolveRun,
+    /// The friction value of the state it started from.
+    start: Option<f64>,
     started: Instant,
     last_live: Instant,
     iterations: Vec<IterationRecord>,
+}
+
+/// The newest solution the user asked for.
+struct Current {
+    generation: u64,
+    solution: Solution,
+    params: Params,
 }
 
 /// The solver and everything the worker remembers between requests.
@@ -36,7 +64,7 @@ pub(crate) struct Service {
     /// The parameter values the solver holds.
     applied: Params,
     running: Option<Running>,
-    solution: Option<(u64, Solution)>,
+    current: Option<Current>,
     /// The iterations of the newest solve.
     iterations: Vec<IterationRecord>,
     /// Whether the newest solve started warm.
@@ -47,6 +75,11 @@ pub(crate) struct Service {
     display_step: DisplayStep,
     events: Sender<Event>,
     wake: Arc<dyn Fn() + Send + Sync>,
+    /// The converged configurations of the study.
+    library: Library,
+    control: StudyControl,
+    /// When the newest solve request arrived.
+    last_change: Instant,
 }
 
 impl Service {
@@ -65,7 +98,7 @@ impl Service {
                 solver,
                 applied,
                 running: None,
-                solution: None,
+                current: None,
                 iterations: Vec::new(),
                 warm: false,
                 recorded: None,
@@ -73,6 +106,9 @@ impl Service {
                 display_step,
                 events,
                 wake,
+                library: Library::default(),
+                control: StudyControl::default(),
+                last_change: Instant::now(),
             }),
             Err(e) => {
                 let _ = events.send(Event::Error(format!("{e}")));
@@ -87,21 +123,32 @@ impl Service {
         (self.wake)();
     }
 
-    /// Whether a solve is under way.
+    /// Whether a solve is under way (the user's or the background study's).
     pub(crate) fn solving(&self) -> bool {
         self.running.is_some()
     }
 
-    /// Does one unit of work: starts the newest requested solve (cancelling a running one), or
-    /// runs one iteration of the running solve, or serves the oldest other request (field and
-    /// probe requests wait until no solve runs). Returns whether work remains.
+    /// Does one unit of work: applies study controls, starts the newest requested solve
+    /// (cancelling a running one), or serves the oldest other request first if only the
+    /// background study is solving, or runs one iteration of the running solve, or serves the
+    /// oldest other request (field and probe requests wait while the user's solve runs), or,
+    /// with nothing else to do, one unit of the background study. Returns whether work remains.
     pub(crate) fn tick(&mut self, queue: &mut Vec<Request>) -> bool {
+        while let Some(i) = queue.iter().position(|c| matches!(c, Request::Study(_))) {
+            if let Request::Study(c) = queue.remove(i) {
+                self.control = c;
+                if c.paused {
+                    self.cancel_background();
+                }
+            }
+        }
         if let Some(i) = queue
             .iter()
             .rposition(|c| matches!(c, Request::Solve { .. }))
         {
             let c = queue.remove(i);
             queue.retain(|c| !matches!(c, Request::Solve { .. }));
+            self.last_change = Instant::now();
             if let Some(mut r) = self.running.take() {
                 r.run.cancel();
                 self.conclude(r);
@@ -111,16 +158,20 @@ impl Service {
             }
             return true;
         }
-        if let Some(mut r) = self.running.take() {
-            if self.iterate(&mut r) {
-                self.conclude(r);
-            } else {
-                self.running = Some(r);
+        // requests are served before the background study's next iteration
+        let background = matches!(&self.running, Some(r) if r.origin == Origin::Background);
+        if !background || queue.is_empty() {
+            if let Some(mut r) = self.running.take() {
+                if self.iterate(&mut r) {
+                    self.conclude(r);
+                } else {
+                    self.running = Some(r);
+                }
+                return true;
             }
-            return true;
         }
         if queue.is_empty() {
-            return false;
+            return self.study_tick();
         }
         match queue.remove(0) {
             Request::Fields { step } => {
@@ -133,38 +184,208 @@ impl Service {
             }
             Request::Probe { sub, node } => self.serve_probe(sub, node),
             Request::Record => self.record(),
-            Request::Solve { .. } => {}
+            Request::Solve { .. } | Request::Study(_) => {}
         }
-        !queue.is_empty()
+        true
+    }
+
+    /// How long to wait for a request before [`Service::tick`] has background work (None:
+    /// none is coming until a request arrives).
+    pub(crate) fn idle_wait(&self) -> Option<Duration> {
+        let current = self.study_value()?;
+        let step = self.display_step.get();
+        let work = self.library.next_value(current).is_some()
+            || self.library.next_picture(current, step).is_some();
+        if !work {
+            return None;
+        }
+        let left = self.control.idle_s - self.last_change.elapsed().as_secs_f64();
+        Some(Duration::from_secs_f64(left.max(0.0)))
+    }
+
+    /// The friction value the background study orders its work around (the user's newest),
+    /// when it may run: not paused, the user's solve converged and in the library.
+    fn study_value(&self) -> Option<f64> {
+        if self.control.paused || self.running.is_some() {
+            return None;
+        }
+        let c = self.current.as_ref()?;
+        if !c.solution.converged || !self.library.holds_base_of(&c.params) {
+            return None;
+        }
+        c.params.friction
+    }
+
+    /// One unit of the background study, once the user has been idle long enough: starts
+    /// solving the next grid value, or pictures a stored configuration at the displayed step.
+    /// Returns whether it did something.
+    fn study_tick(&mut self) -> bool {
+        let Some(current) = self.study_value() else {
+            return false;
+        };
+        if self.last_change.elapsed().as_secs_f64() < self.control.idle_s {
+            return false;
+        }
+        if let Some(value) = self.library.next_value(current) {
+            let Some(c) = &self.current else {
+                return false;
+            };
+            let params = Params {
+                friction: Some(value),
+                ..c.params.clone()
+            };
+            self.start_run(Origin::Background, params);
+            if self.running.is_none() {
+                self.library.give_up(value);
+            }
+            return true;
+        }
+        let step = self.display_step.get();
+        let Some(index) = self.library.next_picture(current, step) else {
+            return false;
+        };
+        self.library.pictured(index, step);
+        if let Some(sol) = self.library.solution(index) {
+            let e = self.library.entries()[index].clone();
+            let f = fields::compute(&self.solver, &sol, step, 0, false);
+            let c = post::contact(&self.solver, &sol);
+            self.send_stored(StoredConfig {
+                value: e.value,
+                iterations: e.iterations,
+                background: true,
+                start: None,
+                quantities: e.quantities,
+                picture: Picture::of(&f, &c),
+                stored: 0,
+                store_bytes: 0,
+            });
+        }
+        true
+    }
+
+    fn cancel_background(&mut self) {
+        if matches!(&self.running, Some(r) if r.origin == Origin::Background) {
+            if let Some(mut r) = self.running.take() {
+                r.run.cancel();
+                self.conclude(r);
+            }
+        }
     }
 
     fn begin(&mut self, generation: u64, params: Params) {
+        if self.library.adopt(&params) {
+            self.send(Event::StudyReset {
+                grid: study::grid(),
+            });
+        }
+        if let Some(index) = params.friction.and_then(|v| self.library.exact(v)) {
+            self.show_stored(generation, params, index);
+            return;
+        }
+        self.start_run(Origin::User(generation), params);
+    }
+
+    /// Starts a solve for `params`, warm from the nearest stored configuration or from the
+    /// user's newest state, whichever is nearer in friction (the newest state on a tie).
+    fn start_run(&mut self, origin: Origin, params: Params) {
+        let background = origin == Origin::Background;
         if let Err(e) = params.apply(&self.applied, &mut self.solver) {
-            self.send(Event::Error(format!("{e}")));
+            // a background value that cannot be set is given up, not reported
+            if !background {
+                self.send(Event::Error(format!("{e}")));
+            }
             return;
         }
         self.applied = params.clone();
-        let start = self.solution.as_ref().map(|(_, s)| &s.state);
-        match self.solver.begin(start) {
+        let gap = |v: Option<f64>| match (v, params.friction) {
+            (Some(a), Some(b)) => (a - b).abs(),
+            _ => f64::INFINITY,
+        };
+        let nearest = params.friction.and_then(|v| self.library.nearest(v));
+        let newest = self.current.as_ref();
+        let stored: Option<(InterfaceState, f64)> = match nearest {
+            Some((_, v)) if newest.is_some_and(|c| gap(Some(v)) >= gap(c.params.friction)) => None,
+            Some((i, v)) => self.library.state(i).map(|s| (s, v)),
+            None => None,
+        };
+        let (state, start) = match &stored {
+            Some((s, v)) => (Some(s), Some(*v)),
+            None => (
+                newest.map(|c| &c.solution.state),
+                newest.and_then(|c| c.params.friction),
+            ),
+        };
+        match self.solver.begin(state) {
             Ok(run) => {
                 self.running = Some(Running {
-                    generation,
+                    origin,
                     params,
                     run,
+                    start,
                     started: Instant::now(),
                     last_live: Instant::now(),
                     iterations: Vec::new(),
-                })
+                });
+                if background {
+                    let value = self.running.as_ref().and_then(|r| r.params.friction);
+                    self.send(Event::Background(value));
+                }
             }
-            Err(e) => self.send(Event::Error(format!("{e}"))),
+            Err(e) if !background => self.send(Event::Error(format!("{e}"))),
+            Err(_) => {}
         }
     }
 
-    /// One iteration; sends its η and, every [`LIVE_PERIOD_S`], the live fields at the shown
-    /// step. Returns whether the solve has ended.
+    /// Shows stored configuration `index` as the converged solution of `generation`, without
+    /// solving.
+    fn show_stored(&mut self, generation: u64, params: Params, index: usize) {
+        let started = Instant::now();
+        let Some(solution) = self.library.solution(index) else {
+            self.start_run(Origin::User(generation), params);
+            return;
+        };
+        let report = SolveReport {
+            generation,
+            params: params.clone(),
+            iterations: 0,
+            eta: solution.eta,
+            converged: true,
+            cancelled: false,
+            warm: true,
+            start: params.friction,
+            from_store: true,
+            solve_s: started.elapsed().as_secs_f64(),
+            stages: self.solver.counters().stage_times(),
+        };
+        let c = post::contact(&self.solver, &solution);
+        self.current = Some(Current {
+            generation,
+            solution,
+            params,
+        });
+        self.iterations = Vec::new();
+        self.warm = true;
+        self.serve_fields(self.display_step.get());
+        self.send(Event::Contact {
+            generation,
+            histories: Arc::new(c),
+        });
+        self.send(Event::Finished(report));
+        self.record();
+    }
+
+    /// One iteration; for the user's solve, sends its η and, every [`LIVE_PERIOD_S`], the live
+    /// fields at the shown step (the background study sends nothing until it converges).
+    /// Returns whether the solve has ended.
     fn iterate(&mut self, r: &mut Running) -> bool {
         let (events, display) = (&self.events, &self.display_step);
-        let generation = r.generation;
+        let Origin::User(generation) = r.origin else {
+            let iterations = &mut r.iterations;
+            return self.solver.step(&mut r.run, &mut |it| {
+                iterations.push(*it.record);
+                Control::Continue
+            });
+        };
         let (iterations, last_live) = (&mut r.iterations, &mut r.last_live);
         let done = self.solver.step(&mut r.run, &mut |it| {
             iterations.push(*it.record);
@@ -190,9 +411,27 @@ impl Service {
         done
     }
 
-    /// A solve ended (converged, failed or cancelled): keep its state, report, send the
-    /// converged fields and record them.
+    /// A solve ended (converged, failed or cancelled): the user's keeps its state, reports,
+    /// sends the converged fields and records them; a converged one, user's or background, is
+    /// stored in the library and its picture sent.
     fn conclude(&mut self, r: Running) {
+        let Origin::User(generation) = r.origin else {
+            let value = r.params.friction.unwrap_or(f64::NAN);
+            if r.run.failure().is_some() {
+                self.library.give_up(value);
+            } else {
+                let sol = self.solver.finish(r.run);
+                if sol.converged && !sol.cancelled {
+                    let step = self.display_step.get();
+                    let f = fields::compute(&self.solver, &sol, step, 0, false);
+                    self.store(value, &sol, f, true, r.start);
+                } else if !sol.cancelled {
+                    self.library.give_up(value);
+                }
+            }
+            self.send(Event::Background(None));
+            return;
+        };
         if let Some(failure) = r.run.failure() {
             // keep the last good state to restart from; say where the solve broke down
             self.send(Event::Error(format!(
@@ -204,44 +443,88 @@ impl Service {
         let solve_s = r.started.elapsed().as_secs_f64();
         let sol = self.solver.finish(r.run);
         let report = SolveReport {
-            generation: r.generation,
-            params: r.params,
+            generation,
+            params: r.params.clone(),
             iterations: sol.iterations,
             eta: sol.eta,
             converged: sol.converged,
             cancelled: sol.cancelled,
             warm,
+            start: r.start,
+            from_store: false,
             solve_s,
             stages: self.solver.counters().stage_times(),
         };
-        let cancelled = sol.cancelled;
+        let (cancelled, converged) = (sol.cancelled, sol.converged);
         // a cancelled iterate is still the newest state: the next solve starts there
-        self.solution = Some((r.generation, sol));
+        self.current = Some(Current {
+            generation,
+            solution: sol,
+            params: r.params,
+        });
         self.iterations = r.iterations;
         self.warm = warm;
+        let mut shown = None;
         if !cancelled {
-            self.serve_fields(self.display_step.get());
-            if let Some((_, sol)) = &self.solution {
-                let c = post::contact(&self.solver, sol);
+            shown = self.serve_fields(self.display_step.get());
+            if let Some(c) = &self.current {
+                let h = post::contact(&self.solver, &c.solution);
                 self.send(Event::Contact {
-                    generation: r.generation,
-                    histories: Arc::new(c),
+                    generation,
+                    histories: Arc::new(h),
                 });
             }
         }
-        let converged = report.converged;
         self.send(Event::Finished(report));
         if converged {
             self.record();
+            if let (Some(c), Some(f)) = (self.current.take(), shown) {
+                if let Some(value) = c.params.friction {
+                    let f = Arc::try_unwrap(f).unwrap_or_else(|f| (*f).clone());
+                    self.store(value, &c.solution, f, false, r.start);
+                }
+                self.current = Some(c);
+            }
         }
+    }
+
+    /// Keeps a converged configuration solved for the solver's current parameters, with its
+    /// fields `f` at the displayed step, and sends its picture.
+    fn store(
+        &mut self,
+        value: f64,
+        sol: &Solution,
+        f: StepFields,
+        background: bool,
+        start: Option<f64>,
+    ) {
+        let quantities = Quantities::of(&self.solver, sol);
+        let c = post::contact(&self.solver, sol);
+        self.library.insert(value, sol, quantities, f.step);
+        self.send_stored(StoredConfig {
+            value,
+            iterations: sol.iterations,
+            background,
+            start,
+            quantities,
+            picture: Picture::of(&f, &c),
+            stored: 0,
+            store_bytes: 0,
+        });
+    }
+
+    fn send_stored(&self, mut c: StoredConfig) {
+        c.stored = self.library.entries().len();
+        c.store_bytes = self.library.bytes();
+        self.send(Event::Stored(Arc::new(c)));
     }
 
     /// Hands the newest converged solution to the recorder, if one is on and it has not seen it.
     fn record(&mut self) {
-        let Some((generation, sol)) = &self.solution else {
+        let Some(c) = &self.current else {
             return;
         };
-        if !sol.converged || self.recorded == Some(*generation) {
+        if !c.solution.converged || self.recorded == Some(c.generation) {
             return;
         }
         let outcome = {
@@ -253,14 +536,14 @@ impl Service {
             };
             let solve = RecordedSolve {
                 solver: &self.solver,
-                solution: sol,
+                solution: &c.solution,
                 iterations: &self.iterations,
-                params: &self.applied,
+                params: &c.params,
                 warm: self.warm,
             };
             rec.record(&solve).map(|()| rec.target())
         };
-        let generation = *generation;
+        let generation = c.generation;
         match outcome {
             Ok(target) => {
                 self.recorded = Some(generation);
@@ -270,16 +553,23 @@ impl Service {
         }
     }
 
-    fn serve_fields(&mut self, step: usize) {
-        if let Some((generation, sol)) = &self.solution {
-            let step = step.min(self.solver.problem().time.steps);
-            let f = fields::compute(&self.solver, sol, step, *generation, false);
-            self.send(Event::Fields(Arc::new(f)));
-        }
+    /// Sends the fields of the user's newest solution at `step`, and gives them back.
+    fn serve_fields(&mut self, step: usize) -> Option<Arc<StepFields>> {
+        let c = self.current.as_ref()?;
+        let step = step.min(self.solver.problem().time.steps);
+        let f = Arc::new(fields::compute(
+            &self.solver,
+            &c.solution,
+            step,
+            c.generation,
+            false,
+        ));
+        self.send(Event::Fields(f.clone()));
+        Some(f)
     }
 
     fn serve_probe(&mut self, sub: usize, node: usize) {
-        let Some((generation, sol)) = &self.solution else {
+        let Some(c) = &self.current else {
             return;
         };
         let p = self.solver.problem();
@@ -289,9 +579,9 @@ impl Service {
             )));
             return;
         }
-        let h = fields::probe(&self.solver, sol, sub, node);
+        let h = fields::probe(&self.solver, &c.solution, sub, node);
         self.send(Event::Probe(Arc::new(ProbeHistory {
-            generation: *generation,
+            generation: c.generation,
             sub,
             node,
             speed: h.0,

@@ -2,14 +2,15 @@
 //! show and those of the newest request, where the solver stands, every η so far with a marker
 //! at each parameter change (the convergence plot), the reports of the finished solves, the
 //! re-solve latency and the last error message. It applies the worker's events each frame,
-//! handing fields, contact histories and probes to the [`FieldCache`] and recording outcomes to
-//! the [`Recording`].
+//! handing fields, contact histories and probes to the [`FieldCache`], recording outcomes to
+//! the [`Recording`] and the study's stored configurations to the [`StudyView`].
 
 use crate::field_cache::FieldCache;
 use crate::measure::Measure;
 use crate::params::Params;
 use crate::protocol::{Event, SolveReport};
 use crate::recording::Recording;
+use crate::study_view::StudyView;
 use crate::worker::Worker;
 use lopin_core::counters::Instant;
 
@@ -161,10 +162,11 @@ impl SolveView {
     }
 
     /// Launches a warm re-solve if the controls moved since the newest request (a running
-    /// solve is cancelled and the new one starts from its newest iterate).
-    pub fn resolve_if_changed(&mut self) {
+    /// solve is cancelled and the new one starts from the nearest stored configuration or its
+    /// newest iterate). Returns the new request's generation, if one was sent.
+    pub fn resolve_if_changed(&mut self) -> Option<u64> {
         if self.params == self.requested {
-            return;
+            return None;
         }
         let what = self.params.describe_change(&self.requested);
         self.markers.push((self.convergence.len() as f64, what));
@@ -173,19 +175,21 @@ impl SolveView {
         self.change_time = Some(Instant::now());
         self.last_latency = None;
         self.error = None;
+        Some(self.worker.generation())
     }
 
     /// Receives the worker's events: η, status and reports stay here, fields, contact
-    /// histories and probes go to `cache`, recording outcomes to `recording`, finished solves
-    /// to `measure`.
+    /// histories and probes go to `cache`, recording outcomes to `recording`, stored
+    /// configurations to `study`, finished solves to `measure`.
     pub fn apply_events(
         &mut self,
         cache: &mut FieldCache,
         recording: &mut Recording,
+        study: &mut StudyView,
         mut measure: Option<&mut Measure>,
     ) {
         for e in self.worker.poll() {
-            self.apply(e, cache, recording, measure.as_deref_mut());
+            self.apply(e, cache, recording, study, measure.as_deref_mut());
         }
     }
 
@@ -194,6 +198,7 @@ impl SolveView {
         e: Event,
         cache: &mut FieldCache,
         recording: &mut Recording,
+        study: &mut StudyView,
         measure: Option<&mut Measure>,
     ) {
         let newest = self.worker.generation();
@@ -246,6 +251,9 @@ impl SolveView {
                 self.error = Some(msg.clone());
                 self.status = SolveStatus::Failed(msg);
             }
+            Event::StudyReset { grid } => study.reset(grid),
+            Event::Stored(c) => study.receive(&c),
+            Event::Background(value) => study.set_running(value),
         }
     }
 }

@@ -1,6 +1,7 @@
 //! The 3D view widget: mouse orbit (drag), pan (right or middle drag, or shift-drag), zoom
-//! (scroll), reset (double-click), picking a probe node (click), the wgpu paint callback, and
-//! the colour legend with quantity, unit, range and min/max.
+//! (scroll), reset (double-click), picking a probe node (click), the wgpu paint callback, the
+//! colour legend with quantity, unit, range and min/max (diverging for a difference field), and
+//! a note over the view (what is shown while a re-solve refines it, what is compared).
 
 use crate::colormap;
 use crate::geometry::SceneGeometry;
@@ -13,12 +14,14 @@ use egui::{Color32, Pos2, Rect, Sense, Stroke, Vec2};
 const BACKGROUND: [f32; 3] = [0.105, 0.11, 0.125];
 
 /// Draws the 3D view of `layout`'s mesh in the remaining space (with the wgpu renderer when
-/// `gpu`) and moves its camera. Returns the node a click picked (substructure, node).
+/// `gpu`), with `note` in its top-left corner, and moves its camera. Returns the node a click
+/// picked (substructure, node).
 pub fn show(
     ui: &mut egui::Ui,
     layout: &mut Layout,
     geometry: &SceneGeometry,
     gpu: bool,
+    note: Option<&str>,
 ) -> Option<(usize, usize)> {
     let rect = ui.available_rect_before_wrap();
     let response = ui.allocate_rect(rect, Sense::click_and_drag());
@@ -83,6 +86,18 @@ pub fn show(
         );
     }
     legend(layout, ui, rect);
+    if let Some(note) = note {
+        let painter = ui.painter_at(rect);
+        let font = egui::FontId::proportional(14.0);
+        let galley = painter.layout_no_wrap(note.to_string(), font, Color32::WHITE);
+        let at = rect.left_top() + Vec2::new(12.0, 10.0);
+        painter.rect_filled(
+            Rect::from_min_size(at, galley.size()).expand(5.0),
+            4.0,
+            Color32::from_black_alpha(170),
+        );
+        painter.galley(at, galley, Color32::WHITE);
+    }
     if layout.mesh().vertices.is_empty() {
         ui.painter().text(
             rect.center(),
@@ -112,7 +127,12 @@ fn legend(layout: &Layout, ui: &egui::Ui, view: Rect) {
     for k in 0..n {
         let t0 = k as f32 / n as f32;
         let t1 = (k + 1) as f32 / n as f32;
-        let c = colormap::color(f64::from(t0 + t1) * 0.5, 0.0, 1.0);
+        let t = f64::from(t0 + t1) * 0.5;
+        let c = if layout.mesh().difference {
+            colormap::diverging(t, 0.0, 1.0)
+        } else {
+            colormap::color(t, 0.0, 1.0)
+        };
         let r = Rect::from_min_max(
             Pos2::new(bar.min.x, bar.max.y - t1 * bar.height()),
             Pos2::new(bar.max.x, bar.max.y - t0 * bar.height()),
@@ -141,7 +161,8 @@ fn legend(layout: &Layout, ui: &egui::Ui, view: Rect) {
     text(
         Pos2::new(bar.min.x, bar.min.y - 16.0),
         format!(
-            "{} ({}){}",
+            "{}{} ({}){}",
+            if layout.mesh().difference { "Δ " } else { "" },
             q.label(),
             q.unit(),
             if layout.view.fixed_range {

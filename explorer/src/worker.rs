@@ -3,11 +3,11 @@
 //! reports as events, so nothing on the UI thread waits for the solver. The solver side is
 //! [`crate::service::Service`]: on the desktop it runs on its own thread; in the browser (no
 //! threads) [`Worker::poll`] advances it for a few milliseconds per frame, one LATIN iteration
-//! at a time, so the page stays responsive while a re-solve converges. The messages are those
-//! of [`crate::protocol`].
+//! at a time, so the page stays responsive while a re-solve converges (and, when the user is
+//! idle, while the background study solves). The messages are those of [`crate::protocol`].
 
 use crate::params::Params;
-use crate::protocol::{DisplayStep, Event, Request};
+use crate::protocol::{DisplayStep, Event, Request, StudyControl};
 use crate::recorder::RecorderSlot;
 use crate::service::Service;
 use lopin_core::counters::Instant;
@@ -153,6 +153,12 @@ impl Worker {
         self.send(Request::Record);
     }
 
+    /// Pauses or resumes the background study and sets how long the user must be idle before
+    /// it runs.
+    pub fn set_study(&mut self, control: StudyControl) {
+        self.send(Request::Study(control));
+    }
+
     /// Tells the inline solver how long the last frame took, s: it then gets about as much
     /// time per frame as drawing and the UI took (half the frame), between [`INLINE_BUDGET_MS`]
     /// and [`INLINE_BUDGET_MAX_MS`]. With fast drawing the page keeps its frame rate; with slow
@@ -195,7 +201,8 @@ impl Worker {
     }
 
     /// Whether the solver runs on the UI thread (browser) and has work left: the UI must ask
-    /// for another frame to go on.
+    /// for another frame to go on. Background work that waits for the user to be idle
+    /// counts (see [`Worker::idle_wait`]).
     pub fn needs_frames(&self) -> bool {
         match &self.link {
             Link::Inline {
@@ -204,6 +211,18 @@ impl Worker {
                 ..
             } => service.solving() || !queue.is_empty(),
             _ => false,
+        }
+    }
+
+    /// When the solver runs on the UI thread (browser) and has background work waiting for
+    /// the user to be idle: how long until it starts. The UI asks for a frame then.
+    pub fn idle_wait(&self) -> Option<std::time::Duration> {
+        match &self.link {
+            Link::Inline {
+                service: Some(service),
+                ..
+            } => service.idle_wait(),
+            _ => None,
         }
     }
 
@@ -216,7 +235,10 @@ impl Worker {
                 if let Some(e) = self.pending.pop_front() {
                     return Some(e);
                 }
-                let had_work = self.needs_frames();
+                let had_work = self.needs_frames()
+                    || self
+                        .idle_wait()
+                        .is_some_and(|d| d < timeout.saturating_sub(t0.elapsed()));
                 let events = self.poll();
                 self.pending.extend(events);
                 if self.pending.is_empty() && (!had_work || t0.elapsed() >= timeout) {
@@ -254,19 +276,28 @@ fn thread_link(start: StartService) -> lopin_core::Result<Link> {
     Ok(Link::Thread(ctx))
 }
 
-/// The solver thread: blocks for a request when idle, otherwise drains new requests between
-/// two units of work (so a newer parameter change cancels the running solve within one
-/// iteration); ends when the [`Worker`] is dropped.
+/// The solver thread: blocks for a request when idle (until the background study may start,
+/// if it has work), otherwise drains new requests between two units of work (so a newer
+/// parameter change cancels the running solve within one iteration); ends when the [`Worker`]
+/// is dropped.
 #[cfg(not(target_arch = "wasm32"))]
 fn serve(service: &mut Service, commands: &Receiver<Request>) {
-    use std::sync::mpsc::TryRecvError;
+    use std::sync::mpsc::{RecvTimeoutError, TryRecvError};
     let mut queue: Vec<Request> = Vec::new();
     let mut busy = false;
     loop {
         if !busy {
-            match commands.recv() {
+            let next = match service.idle_wait() {
+                Some(wait) => commands.recv_timeout(wait).map_err(|e| match e {
+                    RecvTimeoutError::Timeout => None,
+                    RecvTimeoutError::Disconnected => Some(()),
+                }),
+                None => commands.recv().map_err(|_| Some(())),
+            };
+            match next {
                 Ok(c) => queue.push(c),
-                Err(_) => return,
+                Err(Some(())) => return,
+                Err(None) => {}
             }
         }
         loop {

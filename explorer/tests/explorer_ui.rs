@@ -133,6 +133,7 @@ fn a_click_on_the_body_picks_a_probe_with_a_history() {
 #[test]
 fn snapshots_of_the_main_views() {
     let mut h = harness("two-blocks");
+    h.state_mut().study.paused = true;
     settle(&mut h);
     h.snapshot("two_blocks_von_mises");
     h.state_mut().layout.view.quantity = Quantity::Velocity;
@@ -178,6 +179,7 @@ fn the_scene_picker_loads_another_scene() {
 #[test]
 fn granular_small_exploded_shows_the_grains_and_the_macro_switch_re_solves() {
     let mut h = harness("granular-small");
+    h.state_mut().study.paused = true;
     settle(&mut h);
     let contacts = h.state().info.contacts;
     assert!(contacts > 0);

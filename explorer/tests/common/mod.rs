@@ -1,5 +1,7 @@
 //! Helpers shared by the explorer's UI tests: a kittest harness on a scene (wgpu on the
 //! software Vulkan driver) and a loop that steps frames until the newest solve converged.
+//! Snapshot tests pause the background study, so what the study panel shows does not depend on
+//! timing.
 
 use egui_kittest::Harness;
 use lopin_explorer::{ExplorerApp, Options};
@@ -22,14 +24,22 @@ pub fn harness_with(options: Options) -> Harness<'static, ExplorerApp> {
         .build_eframe(move |cc| ExplorerApp::new(cc, options).expect("the scene loads"))
 }
 
-/// Steps frames until the newest solve converged and the displayed step's converged fields are
-/// on screen.
+/// Steps frames until the newest solve converged, its configuration is stored by the study and
+/// the displayed step's converged fields are on screen.
 pub fn settle(h: &mut Harness<'static, ExplorerApp>) {
     let start = Instant::now();
     loop {
         h.step();
         let app = h.state();
+        // the converged value is also stored by the study (the study panel shows it)
+        let stored = app.solve.params().friction.is_none_or(|f| {
+            app.study
+                .points()
+                .iter()
+                .any(|p| (p.value - f).abs() < 1e-9)
+        });
         let ready = app.solve.converged()
+            && stored
             && app
                 .cache
                 .shown()
