@@ -1,7 +1,8 @@
 //! `lopin`: the desktop explorer (`lopin` alone, or `lopin view SCENE`) and the command line of
 //! Lopin (headless runs, sweeps, exports, benchmarks, scene files). Built with the `mpi`
 //! feature and started by `mpirun -np P`, `run`, `sweep` and `estimate` run distributed over the
-//! P ranks ([`lopin_app::ranks`]); an error is printed once, by the lowest rank that met it.
+//! P ranks ([`lopin_app::ranks`]) and `study` deals its chains to them; an error is printed
+//! once, by the lowest rank that met it.
 
 use clap::Parser;
 use lopin_app::{cli, ranks};

@@ -2,7 +2,8 @@
 //! (oversubscribed on a 2-core machine) takes the same iterations, reaches the same η (same
 //! bits) and writes the same solution file, byte for byte, as the run on one machine:
 //! `two-blocks --split 2`, `granular-small` single- and two-scale, and a 3-value friction sweep
-//! (its state files); a run restarted from a checkpoint writes the solution of the
+//! (its state files); a study's chains dealt to 2 and 3 ranks give the rows of the same chains
+//! on threads of one process; a run restarted from a checkpoint writes the solution of the
 //! uninterrupted run; bad input ends every rank with one message; a rank that dies ends the job
 //! within seconds, and the job's output says which rank and where to restart.
 #![cfg(feature = "mpi")]
@@ -116,6 +117,86 @@ fn a_sweep_equals_the_sweep_on_one_machine() {
             );
         }
     }
+}
+
+/// study.csv's rows by configuration, without the wall time (the only column a machine changes).
+fn study_rows(dir: &Path) -> Vec<String> {
+    let text = std::fs::read_to_string(dir.join("study.csv")).expect("study.csv");
+    let header: Vec<&str> = text.lines().next().expect("header").split(',').collect();
+    let wall = header.iter().position(|&h| h == "wall_s").expect("wall_s");
+    let mut rows: Vec<(usize, String)> = text
+        .lines()
+        .skip(1)
+        .map(|l| {
+            let fields: Vec<&str> = l.split(',').collect();
+            let kept: Vec<&str> = fields
+                .iter()
+                .enumerate()
+                .filter(|&(k, _)| k != wall)
+                .map(|(_, f)| *f)
+                .collect();
+            (fields[0].parse().expect("index"), kept.join(","))
+        })
+        .collect();
+    rows.sort();
+    rows.into_iter().map(|(_, r)| r).collect()
+}
+
+#[test]
+fn a_study_on_ranks_equals_its_chains_on_threads() {
+    let args = [
+        "study",
+        "two-blocks",
+        "--param",
+        "f=0,0.1,0.2,0.3,0.4,0.5",
+        "--param",
+        "gap=0,1e-6",
+        "--rho-inf",
+        "0.5",
+        "--json",
+    ];
+    for ranks in [2, 3] {
+        let chains = ranks.to_string();
+        let one = scratch(&format!("study-threads{ranks}"));
+        let o = one.display().to_string();
+        let threads = json(&run(Command::new(LOPIN)
+            .args(args)
+            .args(["--chains", &chains, "--out", &o])));
+        let d = scratch(&format!("study-np{ranks}"));
+        let out = d.display().to_string();
+        let mut a = args.to_vec();
+        a.extend(["--out", &out]);
+        let dist = json(&run(&mut mpirun(ranks, &a)));
+        let rows = study_rows(&d);
+        assert_eq!(rows.len(), 12, "{ranks} ranks");
+        assert_eq!(rows, study_rows(&one), "{ranks} ranks");
+        // every chain ran on its rank: chain c on rank c mod P, each cold at its start
+        let chain_of: std::collections::BTreeSet<&str> = rows
+            .iter()
+            .map(|r| r.split(',').nth(1).expect("chain"))
+            .collect();
+        assert_eq!(chain_of.len(), ranks, "{rows:?}");
+        assert_eq!(dist["plan"]["chains"], ranks);
+        for key in ["iterations", "configurations", "converged", "state_bytes"] {
+            assert_eq!(dist["totals"][key], threads["totals"][key], "{key}");
+        }
+        // the other ranks' rows were taken into study.csv and their folders removed
+        for r in 1..ranks {
+            assert!(!d.join(format!("rank-{r}")).exists());
+        }
+    }
+    // fewer chains than ranks: refused once, naming the option
+    let out = mpirun(
+        2,
+        &["study", "two-blocks", "--param", "f=0,0.5", "--chains", "1"],
+    )
+    .output()
+    .expect("starts");
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    let ours: Vec<&str> = err.lines().filter(|l| l.starts_with("error")).collect();
+    assert_eq!(ours.len(), 1, "{err}");
+    assert!(err.contains("--chains") && err.contains("idle"), "{err}");
 }
 
 #[test]

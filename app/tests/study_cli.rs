@@ -1,7 +1,8 @@
 //! `lopin study` from the command line (issue 20): a study killed with SIGKILL after a few
 //! configurations and resumed keeps every finished row byte for byte, solves the rest, and ends
 //! with the same configurations and quantities (to the tolerance's reach: a resumed chain restarts
-//! cold) as an uninterrupted study, with its figures; bad input is refused with a message naming
+//! cold) as an uninterrupted study, with its figures; the rows a killed distributed study left
+//! in a rank's folder are taken in by the resume; bad input is refused with a message naming
 //! the option and the reason, before anything is written.
 
 use std::path::{Path, PathBuf};
@@ -177,6 +178,38 @@ fn a_killed_study_resumes_without_losing_a_row() {
             );
         }
     }
+
+    // a distributed study killed mid-way leaves rank 1's rows in rank-1/: a resume takes them in
+    // (solving none of them again: every row comes back byte for byte) and removes the folder
+    let split = scratch("ranks");
+    let side = split.join("rank-1");
+    std::fs::create_dir_all(&side).expect("test value");
+    for d in [&split, &side] {
+        std::fs::copy(full.join("study.json"), d.join("study.json")).expect("test value");
+    }
+    let (mut even, mut odd) = (format!("{header}\n"), format!("{header}\n"));
+    for (i, r) in rows(&full) {
+        let to = if i % 2 == 0 { &mut even } else { &mut odd };
+        to.push_str(&r);
+        to.push('\n');
+    }
+    std::fs::write(split.join("study.csv"), even).expect("test value");
+    std::fs::write(side.join("study.csv"), odd).expect("test value");
+    let taken = lopin()
+        .args(ARGS)
+        .args(["--resume", "--json", "--out"])
+        .arg(&split)
+        .output()
+        .expect("runs");
+    assert!(
+        taken.status.success(),
+        "{}",
+        String::from_utf8_lossy(&taken.stderr)
+    );
+    assert_eq!(rows(&split), rows(&full));
+    assert!(!side.exists(), "rank-1/ is left");
+    let taken: serde_json::Value = serde_json::from_slice(&taken.stdout).expect("json");
+    assert_eq!(taken["totals"]["iterations"], json["totals"]["iterations"]);
 }
 
 /// Runs `lopin study two-blocks ARGS --out DIR`, which must fail with a message holding every

@@ -77,12 +77,12 @@ pub fn dispatch(cli: Cli) -> anyhow::Result<std::process::ExitCode> {
     if let Some(r) = crate::ranks::current() {
         let distributed = matches!(
             cli.command,
-            Some(Command::Run(_) | Command::Sweep(_) | Command::Estimate(_))
+            Some(Command::Run(_) | Command::Sweep(_) | Command::Study(_) | Command::Estimate(_))
         );
         if !distributed {
             crate::ranks::agree::<()>(Err(anyhow::anyhow!(
                 "this command runs on one rank ({} ranks started): under mpirun, use `lopin \
-                 run`, `lopin sweep` or `lopin estimate`",
+                 run`, `lopin sweep`, `lopin study` or `lopin estimate`",
                 r.size()
             )))?;
         }

@@ -5,6 +5,12 @@
 //! warm-started from the nearest one its chain solved. Every finished configuration is one row of
 //! `study.csv` at once ([`rows`]); `--resume` keeps every row and solves the rest;
 //! `study.json` holds the plan (parameters, design, order) and the totals.
+//!
+//! Under `mpirun -np P` ([`crate::ranks`]) the chains are dealt to the ranks (chain c on rank
+//! c mod P, one chain per rank by default), each rank solving its own on threads with solvers of
+//! its own (nothing is exchanged while they run). Rank 0 writes `study.csv`; rank r > 0 appends
+//! its rows, synced, to `rank-r/study.csv`, which rank 0 takes into `study.csv` when every rank
+//! is done (and `--resume` after a kill), so a killed distributed study loses nothing either.
 
 mod figures;
 mod rows;
@@ -23,7 +29,7 @@ use lopin_core::window_choice::Task;
 use lopin_core::Solver;
 use serde::Serialize;
 
-use super::setup::{prepare, SceneArgs};
+use super::setup::{build, SceneArgs};
 use rows::Rows;
 
 /// Options of `lopin study`.
@@ -45,9 +51,10 @@ pub struct StudyArgs {
     /// Seed of the draws.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// Chains of the path solved at once (each with its own factorization).
-    #[arg(long, default_value_t = 1)]
-    pub chains: usize,
+    /// Chains of the path solved at once (each with its own factorization); under mpirun they
+    /// are dealt to the ranks. Default: one per rank (one without mpirun).
+    #[arg(long)]
+    pub chains: Option<usize>,
     /// Solve every configuration cold (the baseline).
     #[arg(long, conflicts_with = "compare_cold")]
     pub cold: bool,
@@ -130,11 +137,21 @@ pub struct Totals {
     pub figures: Vec<String>,
 }
 
-pub fn study(args: &StudyArgs) -> anyhow::Result<ExitCode> {
-    let start = Instant::now();
-    let prepared = prepare(&args.scene.for_task(Task::Study))?;
-    let problem = prepared.solver.problem().clone();
-    let settings = *prepared.solver.settings();
+/// What every rank knows of a study before it runs: the problem, the design, its path cut into
+/// chains, the plan and the folder.
+struct Setup {
+    problem: lopin_core::Problem,
+    settings: lopin_core::Settings,
+    design: Design,
+    chains: Chains,
+    plan: Plan,
+    dir: PathBuf,
+}
+
+/// Reads the options and the scene into a [`Setup`]; `ranks` is the number of ranks started.
+fn setup(args: &StudyArgs, ranks: usize) -> anyhow::Result<Setup> {
+    let built = build(&args.scene.for_task(Task::Study))?;
+    let (problem, settings) = (built.problem, built.settings);
     let mut axes = Vec::new();
     for p in &args.param {
         let (name, spread) = p.split_once('=').with_context(|| {
@@ -172,14 +189,21 @@ pub fn study(args: &StudyArgs) -> anyhow::Result<ExitCode> {
             }
         }
     }
-    if args.chains == 0 {
+    let count = args.chains.unwrap_or(ranks);
+    if count == 0 {
         anyhow::bail!("--chains: must be at least 1");
     }
+    if count < ranks {
+        anyhow::bail!(
+            "--chains: {count} chain(s) for {ranks} ranks would leave ranks idle: give at least \
+             {ranks} (the default is one per rank)"
+        );
+    }
     let path = Path::greedy(&design.points);
-    let chains = Chains::split(&path, args.chains);
+    let chains = Chains::split(&path, count);
     let plan = Plan {
-        scene: prepared.spec.name.clone(),
-        fingerprint: crate::run_dir::fingerprint::of_run(&prepared.spec, &settings).to_string(),
+        scene: built.spec.name.clone(),
+        fingerprint: crate::run_dir::fingerprint::of_run(&built.spec, &settings).to_string(),
         parameters: design.targets.iter().map(|t| t.label.clone()).collect(),
         spreads,
         design: match (args.samples, args.sampling) {
@@ -211,18 +235,65 @@ pub fn study(args: &StudyArgs) -> anyhow::Result<ExitCode> {
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from(format!("out/study-{}", plan.scene)));
-    let rows = Mutex::new(Rows::open(&dir, &plan, &design, args.resume)?);
-    let kept = rows.lock().map_or(0, |r| r.done().len());
-    let done: Vec<bool> = {
-        let r = rows.lock().map_err(|_| anyhow::anyhow!("study rows"))?;
-        (0..design.points.len()).map(|i| r.has(i)).collect()
+    Ok(Setup {
+        problem,
+        settings,
+        design,
+        chains,
+        plan,
+        dir,
+    })
+}
+
+pub fn study(args: &StudyArgs) -> anyhow::Result<ExitCode> {
+    let start = Instant::now();
+    let world = crate::ranks::current();
+    let (rank, size) = world.as_ref().map_or((0, 1), |r| (r.rank(), r.size()));
+    let Setup {
+        problem,
+        settings,
+        design,
+        chains,
+        plan,
+        dir,
+    } = crate::ranks::agree(setup(args, size))?;
+    // rank 0 opens study.csv (taking in the rows of ranks a killed run left), then says which
+    // configurations are finished; every other rank opens its own rows
+    let opened = if rank == 0 {
+        Rows::open(&dir, &plan, &design, args.resume).and_then(|mut rows| {
+            rows::absorb_ranks(&dir, &mut rows, &plan, &design, args.resume)?;
+            Ok(Some(rows))
+        })
+    } else {
+        Ok(None)
     };
-    if !args.json {
+    let opened = crate::ranks::agree(opened)?;
+    let mut done: Vec<f64> = (0..design.points.len())
+        .map(|i| f64::from(u8::from(opened.as_ref().is_some_and(|r| r.has(i)))))
+        .collect();
+    if let Some(w) = &world {
+        w.all_sum(&mut done);
+    }
+    let done: Vec<bool> = done.iter().map(|&x| x > 0.0).collect();
+    let kept = done.iter().filter(|&&d| d).count();
+    let rows = match opened {
+        Some(rows) => Ok(rows),
+        None => Rows::open(&rows::rank_dir(&dir, rank), &plan, &design, false),
+    };
+    let rows = Mutex::new(crate::ranks::agree(rows)?);
+    let mine: Vec<usize> = (0..chains.0.len()).filter(|c| c % size == rank).collect();
+    let my_chains = Chains(mine.iter().map(|&c| chains.0[c].clone()).collect());
+    if !args.json && rank == 0 {
         eprintln!(
-            "study of {} configurations ({}), {} chain(s){}; path {:.3} against {:.3} in the given order",
+            "study of {} configurations ({}), {} chain(s){}{}; path {:.3} against {:.3} in the given order",
             design.points.len(),
             plan.design,
             plan.chains,
+            if size > 1 {
+                format!(" on {size} ranks")
+            } else {
+                String::new()
+            },
             if kept > 0 {
                 format!(", {kept} kept from {}", dir.display())
             } else {
@@ -234,7 +305,8 @@ pub fn study(args: &StudyArgs) -> anyhow::Result<ExitCode> {
     }
     let make = || Solver::new(problem.clone(), settings);
     let write_error: Mutex<Option<anyhow::Error>> = Mutex::new(None);
-    let finished = |o: Outcome| -> lopin_core::Result<()> {
+    let finished = |mut o: Outcome| -> lopin_core::Result<()> {
+        o.chain = mine[o.chain];
         let mut r = rows.lock().unwrap_or_else(|p| p.into_inner());
         if let Err(e) = r.append(&design, &o) {
             let msg = format!("{e:#}");
@@ -243,8 +315,17 @@ pub fn study(args: &StudyArgs) -> anyhow::Result<ExitCode> {
         }
         if !args.json {
             eprintln!(
-                "  [{}/{}] {} → {} iterations{}",
-                r.done().len(),
+                "  [{}{}/{}] {} → {} iterations{}",
+                if size > 1 {
+                    format!("rank {rank}: ")
+                } else {
+                    String::new()
+                },
+                if rank == 0 {
+                    r.done().len()
+                } else {
+                    r.done().len() + kept
+                },
                 design.points.len(),
                 describe_point(&design, o.index),
                 o.iterations,
@@ -263,18 +344,34 @@ pub fn study(args: &StudyArgs) -> anyhow::Result<ExitCode> {
             PredictorArg::Parallelogram => Predictor::Parallelogram,
         },
     };
-    let result = runner::run(&make, &design, &chains, options, &|i| done[i], &finished);
-    if let Some(e) = write_error.into_inner().unwrap_or_else(|p| p.into_inner()) {
-        return Err(e.context(format!("{}: writing the study", dir.display())));
+    let result = runner::run(&make, &design, &my_chains, options, &|i| done[i], &finished);
+    let mut rows = rows.into_inner().unwrap_or_else(|p| p.into_inner());
+    let ran = match write_error.into_inner().unwrap_or_else(|p| p.into_inner()) {
+        Some(e) => Err(e.context(format!("{}: writing the study", dir.display()))),
+        None => result.map_err(anyhow::Error::from).with_context(|| {
+            format!(
+                "{}: the study stopped (every configuration finished is kept in {}; --resume \
+                 continues)",
+                plan.scene,
+                dir.display()
+            )
+        }),
+    };
+    // every rank is done (or failed): rank 0 takes the other ranks' rows in
+    let ran = crate::ranks::agree(ran);
+    let mut state_bytes = vec![0.0; chains.0.len()];
+    for (&c, &b) in mine.iter().zip(ran.as_deref().unwrap_or(&[])) {
+        state_bytes[c] = b as f64;
     }
-    let rows = rows.into_inner().unwrap_or_else(|p| p.into_inner());
-    let state_bytes = result.with_context(|| {
-        format!(
-            "{}: the study stopped ({} configurations finished are kept; --resume continues)",
-            plan.scene,
-            rows.done().len()
-        )
-    })?;
+    if let Some(w) = &world {
+        w.all_sum(&mut state_bytes);
+    }
+    if rank != 0 {
+        return ran.map(|_| ExitCode::SUCCESS);
+    }
+    rows::absorb_ranks(&dir, &mut rows, &plan, &design, true)?;
+    ran?;
+    let state_bytes: Vec<usize> = state_bytes.iter().map(|&b| b as usize).collect();
     let outcomes = rows.done();
     let totals = Totals {
         configurations: outcomes.len(),

@@ -3,6 +3,10 @@
 //! killed at any moment keeps every finished row). `--resume` reads both back: the plan must be
 //! the same (scene, settings, parameters, design, chains), every row that parses and matches its
 //! configuration's values is kept (a torn last line is dropped and solved again).
+//!
+//! A distributed study's rank r > 0 keeps its rows the same way in `rank-r/` ([`rank_dir`]);
+//! rank 0 takes them into `study.csv` and removes the folder ([`absorb_ranks`]) at the end, or at
+//! the start of a `--resume` after a kill.
 
 use std::fs::{File, OpenOptions};
 use std::io::Write;
@@ -138,6 +142,51 @@ fn csv_line(fields: &[String]) -> anyhow::Result<Vec<u8>> {
     let mut w = csv::Writer::from_writer(Vec::new());
     w.write_record(fields)?;
     w.into_inner().map_err(|e| anyhow::anyhow!("{e}"))
+}
+
+/// The folder of rank `rank`'s rows in a distributed study in `dir`.
+pub fn rank_dir(dir: &FsPath, rank: usize) -> PathBuf {
+    dir.join(format!("rank-{rank}"))
+}
+
+/// Takes the rows the other ranks of a distributed study left in `dir` into `rows` (rank 0's
+/// `study.csv`) and removes their folders; a new study (`keep` false) removes them unread.
+pub fn absorb_ranks(
+    dir: &FsPath,
+    rows: &mut Rows,
+    plan: &Plan,
+    design: &Design,
+    keep: bool,
+) -> anyhow::Result<()> {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return Ok(());
+    };
+    let mut folders: Vec<PathBuf> = entries
+        .filter_map(Result::ok)
+        .map(|e| e.path())
+        .filter(|p| {
+            p.is_dir()
+                && p.file_name()
+                    .and_then(|n| n.to_str())
+                    .and_then(|n| n.strip_prefix("rank-"))
+                    .is_some_and(|r| r.parse::<usize>().is_ok())
+        })
+        .collect();
+    folders.sort();
+    for folder in folders {
+        if keep && folder.join("study.json").exists() {
+            let theirs = Rows::open(&folder, plan, design, true)
+                .with_context(|| format!("{}: the rows of a rank", folder.display()))?;
+            for o in theirs.done() {
+                if !rows.has(o.index) {
+                    rows.append(design, o)?;
+                }
+            }
+        }
+        std::fs::remove_dir_all(&folder)
+            .with_context(|| format!("{}: removing", folder.display()))?;
+    }
+    Ok(())
 }
 
 impl Rows {
