@@ -20,10 +20,32 @@ const PAD: f64 = 0.06;
 /// A tick label: plain for moderate magnitudes, scientific otherwise.
 fn tick(x: &f64) -> String {
     let a = x.abs();
-    if a == 0.0 || (1e-2..1e4).contains(&a) {
-        format!("{x:.3}")
+    if a == 0.0 || (a.fract() == 0.0 && a < 1e4) {
+        format!("{x:.0}")
+    } else if (1e-2..1e4).contains(&a) {
+        // three significant digits, no trailing zeros: 0.125, 2.5, 48
+        let digits = (2 - a.log10().floor() as i32).max(0) as usize;
+        let s = format!("{x:.digits$}");
+        if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            s
+        }
     } else {
         format!("{x:.2e}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn ticks_are_short() {
+        let t = |x: f64| super::tick(&x);
+        assert_eq!(
+            [t(0.0), t(25.0), t(48.0), t(0.125), t(2.5), t(0.333), t(1234.6)],
+            ["0", "25", "48", "0.125", "2.5", "0.333", "1235"]
+        );
+        assert_eq!([t(6.2e5), t(1e-5)], ["6.20e5", "1.00e-5"]);
     }
 }
 
