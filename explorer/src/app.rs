@@ -5,13 +5,15 @@
 //! [`Recording`], [`Clock`] and [`Layout`] (view options, camera, drawn mesh) — with the
 //! per-frame order: receive events, request the fields the screen needs, lay out the panels,
 //! re-solve if a parameter moved (the nearest stored picture goes on screen at once), rebuild
-//! the mesh, draw the 3D view. The same type runs on the desktop (eframe, wgpu), in the browser
+//! the mesh (against the pinned configuration's picture for the difference field or side by
+//! side), draw the 3D view (one viewport, or the pinned and the current configurations side by
+//! side). The same type runs on the desktop (eframe, wgpu), in the browser
 //! and in tests (egui_kittest).
 
 use crate::clock::Clock;
 use crate::field_cache::FieldCache;
 use crate::geometry::SceneGeometry;
-use crate::layout::Layout;
+use crate::layout::{Against, Layout};
 use crate::measure::{Action, FrameState, Measure};
 use crate::params::Params;
 use crate::recorder::RecorderFactory;
@@ -316,7 +318,7 @@ impl ExplorerApp {
             crate::panels::parameters(ui, self.solve.params_mut(), &mut self.layout.controls);
             ui.separator();
             let friction = self.solve.params().friction;
-            crate::study_panel::show(ui, &mut self.study, friction);
+            crate::study_panel::show(ui, &mut self.study, friction, &mut self.layout.controls);
             ui.separator();
             crate::panels::view_options(ui, &mut self.layout, &self.info);
             ui.separator();
@@ -344,17 +346,29 @@ impl ExplorerApp {
             }
         }
         self.study.sync(self.solve.worker());
-        let minus = match self.study.compare {
-            Compare::Difference => self.study.pinned_drawn(self.clock.step()),
-            Compare::Off => None,
+        let pinned = match self.study.compared() {
+            Some(_) => self.study.pinned_drawn(self.clock.step()),
+            None => None,
         };
-        let rebuilt =
-            self.layout
-                .rebuild_mesh_if_needed(&self.geometry, &self.cache, minus.as_ref());
+        let against = match (self.study.compare, &pinned) {
+            (Compare::Difference, Some(d)) => Against::Minus(d),
+            (Compare::SideBySide, Some(d)) => Against::Beside(d),
+            _ => Against::Nothing,
+        };
+        let rebuilt = self
+            .layout
+            .rebuild_mesh_if_needed(&self.geometry, &self.cache, against);
         if let (true, Some(m), Some(f)) = (rebuilt, &mut self.measure, self.cache.shown()) {
             m.on_mesh(f.generation, f.live);
         }
         let note = self.view_note();
+        let labels = self.study.side_by_side().map(|a| {
+            let b = self.solve.requested().friction.unwrap_or(f64::NAN);
+            (format!("A: f = {a:.3}"), format!("B: f = {b:.3}"))
+        });
+        let side = labels
+            .as_ref()
+            .map(|(a, b)| crate::view3d::SideBySide { a, b });
         let picked = egui::CentralPanel::default()
             .frame(egui::Frame::NONE)
             .show(ui, |ui| {
@@ -364,6 +378,7 @@ impl ExplorerApp {
                     &self.geometry,
                     self.gpu,
                     note.as_deref(),
+                    side,
                 )
             })
             .inner;

@@ -1,8 +1,14 @@
 //! The orbit camera of the 3D view: yaw/pitch/distance around a target (z up), pan, zoom,
-//! reset, and the view-projection matrix in wgpu's clip space (depth 0..1). Also the picking
-//! ray of a screen point.
+//! reset, and the view-projection matrix in wgpu's clip space (depth 0..1), whose field of view
+//! widens for viewports narrower than [`MIN_ASPECT`] (the halves of the side-by-side view). Also
+//! the picking ray of a screen point.
 
 use glam::{Mat4, Vec3, Vec4};
+
+/// A viewport narrower than this (width / height) widens its vertical field of view so that it
+/// shows as much across as a viewport of this shape: the scene stays framed in the tall halves
+/// of the side-by-side view, while the usual views (wider than this) are unchanged.
+pub const MIN_ASPECT: f32 = 0.8;
 
 /// An orbit camera.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -45,11 +51,22 @@ impl Camera {
         self.pitch = (self.pitch + dy * 0.008).clamp(-1.55, 1.55);
     }
 
-    /// Moves the target in the view plane by a drag of (dx, dy) pixels in a view `height` high.
-    pub fn pan(&mut self, dx: f32, dy: f32, height: f32) {
+    /// Moves the target in the view plane by a drag of (dx, dy) pixels in a view `width` ×
+    /// `height` large.
+    pub fn pan(&mut self, dx: f32, dy: f32, width: f32, height: f32) {
         let (right, up) = self.axes();
-        let per_px = 2.0 * self.distance * (0.5 * self.fov).tan() / height.max(1.0);
+        let fov = self.vertical_fov(width / height.max(1.0));
+        let per_px = 2.0 * self.distance * (0.5 * fov).tan() / height.max(1.0);
         self.target += (-dx * right + dy * up) * per_px;
+    }
+
+    /// The vertical field of view of a viewport of this aspect ratio (width / height): the
+    /// camera's, widened below [`MIN_ASPECT`].
+    pub fn vertical_fov(&self, aspect: f32) -> f32 {
+        if aspect >= MIN_ASPECT || aspect <= 0.0 {
+            return self.fov;
+        }
+        2.0 * ((0.5 * self.fov).tan() * MIN_ASPECT / aspect).atan()
     }
 
     /// Zooms by a factor (> 1 moves closer).
@@ -67,7 +84,8 @@ impl Camera {
     pub fn view_proj(&self, aspect: f32) -> Mat4 {
         let near = 0.01 * self.distance;
         let far = 100.0 * self.distance;
-        perspective(self.fov, aspect, near, far) * look_at(self.eye(), self.target, Vec3::Z)
+        let fov = self.vertical_fov(aspect);
+        perspective(fov, aspect, near, far) * look_at(self.eye(), self.target, Vec3::Z)
     }
 
     /// The ray (origin, unit direction) through a point of the view, in normalized device
@@ -122,6 +140,22 @@ mod tests {
         let behind = c.target + (c.target - c.eye()) * 0.5;
         let q = m * behind.extend(1.0);
         assert!(q.z / q.w > ndc.z);
+    }
+
+    #[test]
+    fn a_narrow_viewport_shows_as_much_across_as_one_of_the_minimum_aspect() {
+        let c = Camera::framing(Vec3::ZERO, Vec3::ONE);
+        assert_eq!(c.vertical_fov(1.5), c.fov);
+        assert_eq!(c.vertical_fov(MIN_ASPECT), c.fov);
+        // the horizontal half-width at unit depth: aspect × tan(vertical fov / 2)
+        let across = |aspect: f32| aspect * (0.5 * c.vertical_fov(aspect)).tan();
+        assert!((across(0.4) - across(MIN_ASPECT)).abs() < 1e-6);
+        assert!(c.vertical_fov(0.4) > c.fov);
+        // the picking ray goes through the same point the projection puts at the edge
+        let m = c.view_proj(0.4);
+        let (o, d) = c.ray(1.0, 0.0, 0.4);
+        let p = m * (o + d * c.distance).extend(1.0);
+        assert!((p.x / p.w - 1.0).abs() < 1e-4, "{p}");
     }
 
     #[test]

@@ -1,7 +1,8 @@
 //! How the scene is drawn: the view options (coloured quantity, colour range, deformation,
 //! exploded view, section), the camera, the drawn mesh (rebuilt when the fields on screen, the
-//! configuration subtracted from them or an option change), and where the 3D view and the controls a script clicks were drawn in the last
-//! frame.
+//! configuration compared with them or an option change) and, side by side, the pinned
+//! configuration's mesh on the colour range both share; and where the 3D view (one viewport or
+//! two) and the controls a script clicks were drawn in the last frame.
 
 use crate::camera::Camera;
 use crate::colormap::Range;
@@ -63,8 +64,33 @@ impl Default for ViewOptions {
     }
 }
 
+/// What the current configuration is drawn against: the pinned one's picture at the same step,
+/// subtracted or beside it.
+#[derive(Debug, Clone, Copy)]
+pub enum Against<'a> {
+    /// The current configuration alone.
+    Nothing,
+    /// The difference field: current − this.
+    Minus(&'a Drawn),
+    /// This one in a second viewport, both on the colour range they share.
+    Beside(&'a Drawn),
+}
+
+impl Against<'_> {
+    /// How it enters the mesh key: a kind and the fields' address.
+    fn key(&self) -> (u8, usize) {
+        let at = |d: &Drawn| Arc::as_ptr(&d.0) as usize;
+        match self {
+            Against::Nothing => (0, 0),
+            Against::Minus(d) => (1, at(d)),
+            Against::Beside(d) => (2, at(d)),
+        }
+    }
+}
+
 /// Where some controls were drawn in the last frame, points: "friction" and "time" (slider
-/// rails), "section" and "exploded" (checkboxes). Scripts driving the web page click there.
+/// rails), "section" and "exploded" (checkboxes), "pin A" (button) and "side by side" (radio
+/// button). Scripts driving the web page click there.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct ControlRects(BTreeMap<&'static str, egui::Rect>);
 
@@ -99,11 +125,21 @@ pub struct Layout {
     mesh: Arc<MeshData>,
     /// Its version, unique across scenes.
     mesh_version: u64,
-    /// What the drawn mesh was built from: fields, contact histories, the fields subtracted,
-    /// options.
-    mesh_key: Option<(usize, usize, usize, MeshInputs)>,
-    /// Where the 3D view was drawn in the last frame, points.
+    /// The pinned configuration's mesh and its version, drawn beside the current one.
+    beside: Option<(Arc<MeshData>, u64)>,
+    /// What the drawn meshes were built from: fields, contact histories, what they are drawn
+    /// against, options.
+    mesh_key: Option<(usize, usize, (u8, usize), MeshInputs)>,
+    /// Where the 3D view (the current configuration's viewport) was drawn in the last frame,
+    /// points.
     view_rect: Option<egui::Rect>,
+    /// Where the pinned configuration's viewport was drawn in the last frame (side by side).
+    beside_rect: Option<egui::Rect>,
+}
+
+/// A new mesh version, unique across scenes.
+fn next_version() -> u64 {
+    MESH_VERSION.fetch_add(1, Ordering::Relaxed)
 }
 
 impl Layout {
@@ -117,8 +153,10 @@ impl Layout {
             home,
             mesh: Arc::new(MeshData::default()),
             mesh_version: 0,
+            beside: None,
             mesh_key: None,
             view_rect: None,
+            beside_rect: None,
         }
     }
 
@@ -137,14 +175,29 @@ impl Layout {
         self.mesh_version
     }
 
-    /// Where the 3D view was drawn in the last frame, points.
+    /// The pinned configuration's mesh and its version, when it is drawn beside the current
+    /// one and has a picture at the displayed step.
+    pub fn beside(&self) -> Option<(&Arc<MeshData>, u64)> {
+        self.beside.as_ref().map(|(m, v)| (m, *v))
+    }
+
+    /// Where the 3D view (the current configuration's viewport) was drawn in the last frame,
+    /// points.
     pub fn view_rect(&self) -> Option<egui::Rect> {
         self.view_rect
     }
 
-    /// Notes where the 3D view is drawn.
-    pub fn set_view_rect(&mut self, rect: egui::Rect) {
-        self.view_rect = Some(rect);
+    /// Where the pinned configuration's viewport was drawn in the last frame, points (None:
+    /// one viewport).
+    pub fn beside_rect(&self) -> Option<egui::Rect> {
+        self.beside_rect
+    }
+
+    /// Notes where the current configuration's viewport and, side by side, the pinned one's
+    /// are drawn.
+    pub fn set_view_rects(&mut self, view: egui::Rect, beside: Option<egui::Rect>) {
+        self.view_rect = Some(view);
+        self.beside_rect = beside;
     }
 
     /// The section plane of the current options.
@@ -184,15 +237,19 @@ impl Layout {
         }
     }
 
-    /// Rebuilds the drawn mesh if the fields on screen, the contact histories, the
-    /// configuration subtracted (`minus`: the difference field) or the options changed since
-    /// the last build. Returns whether it rebuilt.
+    /// Rebuilds the drawn meshes if the fields on screen, the contact histories, what they are
+    /// drawn `against` (the pinned configuration subtracted, or beside them) or the options
+    /// changed since the last build. Side by side, both meshes are coloured on the range they
+    /// share ([`mesh_build::shared_range`]). Returns whether it rebuilt.
     pub fn rebuild_mesh_if_needed(
         &mut self,
         geometry: &SceneGeometry,
         cache: &FieldCache,
-        minus: Option<&Drawn>,
+        against: Against<'_>,
     ) -> bool {
+        if !matches!(against, Against::Beside(_)) {
+            self.beside = None;
+        }
         let Some(f) = cache.shown() else {
             return false;
         };
@@ -200,16 +257,46 @@ impl Layout {
         let key = (
             Arc::as_ptr(f) as usize,
             cache.contact().map_or(0, |c| Arc::as_ptr(c) as usize),
-            minus.map_or(0, |m| Arc::as_ptr(&m.0) as usize),
+            against.key(),
             inputs,
         );
         if self.mesh_key == Some(key) {
             return false;
         }
         let contact = cache.contact().map(|c| c.as_slice());
-        let minus = minus.map(|(f, c)| (f.as_ref(), Some(c.as_slice())));
-        self.mesh = Arc::new(mesh_build::build(geometry, f, contact, &inputs, minus));
-        self.mesh_version = MESH_VERSION.fetch_add(1, Ordering::Relaxed);
+        match against {
+            Against::Beside(d) => {
+                let pinned = (d.0.as_ref(), Some(d.1.as_slice()));
+                let (min, max) = mesh_build::shared_range(
+                    geometry,
+                    (f, contact),
+                    pinned,
+                    inputs.range,
+                    inputs.quantity,
+                );
+                let shared = MeshInputs {
+                    range: Range::Fixed { min, max },
+                    ..inputs
+                };
+                self.mesh = Arc::new(mesh_build::build(geometry, f, contact, &shared, None));
+                let beside = mesh_build::build(geometry, pinned.0, pinned.1, &shared, None);
+                self.beside = Some((Arc::new(beside), next_version()));
+            }
+            Against::Minus(d) => {
+                let minus = (d.0.as_ref(), Some(d.1.as_slice()));
+                self.mesh = Arc::new(mesh_build::build(
+                    geometry,
+                    f,
+                    contact,
+                    &inputs,
+                    Some(minus),
+                ));
+            }
+            Against::Nothing => {
+                self.mesh = Arc::new(mesh_build::build(geometry, f, contact, &inputs, None));
+            }
+        }
+        self.mesh_version = next_version();
         self.mesh_key = Some(key);
         true
     }

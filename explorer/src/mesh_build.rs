@@ -1,8 +1,8 @@
 //! Turns the fields of the displayed step into the triangles the GPU draws: each
 //! substructure's boundary faces (deformed, exploded, coloured through the colormap) and the
 //! faces cut by the section plane; or, to compare two configurations, the difference of their
-//! nodal values on a symmetric diverging colour range. Rebuilt only when an input changes, never
-//! for a camera move.
+//! nodal values on a symmetric diverging colour range, or the colour range both share when they
+//! are drawn side by side. Rebuilt only when an input changes, never for a camera move.
 
 use crate::colormap::{self, Range};
 use crate::fields::StepFields;
@@ -115,9 +115,28 @@ pub fn difference(a: &[Vec<Option<f64>>], b: &[Vec<Option<f64>>]) -> Vec<Vec<Opt
         .collect()
 }
 
-/// A configuration to subtract from the drawn one: its fields at the same step and its contact
+/// A configuration as the mesh is built from it: its fields at one step and its contact
 /// histories.
-pub type Minus<'a> = (&'a StepFields, Option<&'a [ContactHistory]>);
+pub type Configuration<'a> = (&'a StepFields, Option<&'a [ContactHistory]>);
+
+/// A configuration to subtract from the drawn one (its fields at the same step).
+pub type Minus<'a> = Configuration<'a>;
+
+/// The colour range two configurations drawn side by side share, display units: the fixed
+/// range, or the min and max of quantity `q` over both (each a configuration's fields at the
+/// same step and its contact histories), so equal colours mean equal values.
+pub fn shared_range(
+    geo: &SceneGeometry,
+    a: Configuration<'_>,
+    b: Configuration<'_>,
+    range: Range,
+    q: Quantity,
+) -> (f64, f64) {
+    let a = nodal_values(geo, a.0, a.1, q);
+    let b = nodal_values(geo, b.0, b.1, q);
+    let all = a.iter().chain(&b).flatten().flatten().copied();
+    colormap::resolve(range, all)
+}
 
 /// Builds the mesh. `contact`: contact histories of the same solution (for interface
 /// quantities); `minus`: a configuration whose values are subtracted (the difference field,

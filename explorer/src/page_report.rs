@@ -1,8 +1,8 @@
 //! What the explorer tells a web page about itself, so scripts (the end-to-end browser test,
 //! the timing benchmark) can follow it without reading pixels: solver state, the newest solve's
 //! parameters, iterations, η and latency, the displayed step and view options, and where the
-//! controls a script clicks (friction and time slider rails, section and exploded checkboxes)
-//! are drawn. The
+//! controls a script clicks (friction and time slider rails, section and exploded checkboxes,
+//! "pin A" and "side by side") and the viewports (one, or two side by side) are drawn. The
 //! web crate writes it into the page title and the `data-*` attributes of `#lopin-status`;
 //! it is plain data, so the desktop tests check it too.
 
@@ -41,8 +41,15 @@ pub struct PageReport {
     /// Controls a script can click (see [`crate::layout::ControlRects`]): left, top, width, height in
     /// points (CSS pixels at zoom 1).
     pub controls: Vec<(&'static str, [f32; 4])>,
-    /// The 3D view: left, top, width, height in points.
+    /// The 3D view (side by side: the current configuration's viewport): left, top, width,
+    /// height in points.
     pub view: Option<[f32; 4]>,
+    /// The friction value pinned as "A" in the study panel.
+    pub pinned: Option<f64>,
+    /// Side by side, the pinned configuration's viewport: left, top, width, height in points.
+    pub beside: Option<[f32; 4]>,
+    /// Whether the pinned configuration's picture is drawn in it.
+    pub beside_drawn: bool,
     /// The failure message, if any.
     pub error: Option<String>,
 }
@@ -87,6 +94,9 @@ impl PageReport {
                 .map(|(k, r)| (k, rect4(r)))
                 .collect(),
             view: app.layout.view_rect().map(rect4),
+            pinned: app.study.pinned,
+            beside: app.layout.beside_rect().map(rect4),
+            beside_drawn: app.layout.beside_rect().is_some() && app.layout.beside().is_some(),
             error,
         }
     }
@@ -145,6 +155,9 @@ impl PageReport {
             ("data-section", self.section.to_string()),
             ("data-exploded", self.exploded.to_string()),
             ("data-view", list4(self.view)),
+            ("data-pinned", opt(self.pinned)),
+            ("data-beside", list4(self.beside)),
+            ("data-beside-drawn", self.beside_drawn.to_string()),
             ("data-controls", self.controls_json()),
             ("data-error", self.error.clone().unwrap_or_default()),
         ]

@@ -26,7 +26,8 @@ pub(crate) enum Request {
     Probe { sub: usize, node: usize },
     /// Record the newest converged solution.
     Record,
-    /// Pause or resume the background study, and how long the user must be idle before it runs.
+    /// Pause or resume the background study, how long the user must be idle before it runs,
+    /// and the configuration compared with the current one.
     Study(StudyControl),
 }
 
@@ -37,6 +38,10 @@ pub struct StudyControl {
     pub paused: bool,
     /// Seconds without a parameter change (and with no re-solve running) before it runs.
     pub idle_s: f64,
+    /// The friction value of the configuration the UI compares with the current one (pinned
+    /// "A"): when it is stored, its picture at the displayed step comes first, without waiting
+    /// for the user to be idle, paused or not.
+    pub pinned: Option<f64>,
 }
 
 impl Default for StudyControl {
@@ -44,6 +49,7 @@ impl Default for StudyControl {
         StudyControl {
             paused: false,
             idle_s: 1.0,
+            pinned: None,
         }
     }
 }

@@ -1,7 +1,9 @@
 //! GPU drawing of the 3D view through an egui paint callback (wgpu): the mesh is drawn into an
 //! offscreen colour + depth target with 4× MSAA, resolved, then copied into egui's render pass
 //! (which has no depth buffer). Vertex data is uploaded only when the mesh version changes;
-//! a camera move only rewrites the 96-byte uniform block.
+//! a camera move only rewrites the 96-byte uniform block. Each viewport of a frame (one, or two
+//! side by side) has its own slot: targets, vertex buffer and uniforms, since egui-wgpu
+//! prepares every callback of a frame before it paints any.
 
 use crate::mesh_build::{MeshData, Vertex};
 use bytemuck::{Pod, Zeroable};
@@ -24,8 +26,10 @@ pub struct Uniforms {
     pub flags: [f32; 4],
 }
 
-/// One frame of the 3D view: the mesh (shared, versioned) and the camera.
+/// One frame of one viewport of the 3D view: the mesh (shared, versioned) and the camera.
 pub struct SceneCallback {
+    /// The viewport's slot (0: the current configuration; 1: the pinned one beside it).
+    pub slot: usize,
     /// The mesh to draw.
     pub mesh: Arc<MeshData>,
     /// Its version: the vertex buffer is re-uploaded when it changes.
@@ -46,12 +50,8 @@ struct Targets {
     blit_group: wgpu::BindGroup,
 }
 
-/// GPU objects of the view, kept in egui-wgpu's callback resources.
-pub struct Resources {
-    mesh_pipeline: wgpu::RenderPipeline,
-    blit_pipeline: wgpu::RenderPipeline,
-    blit_layout: wgpu::BindGroupLayout,
-    sampler: wgpu::Sampler,
+/// What one viewport keeps on the GPU between frames.
+struct Slot {
     uniforms: wgpu::Buffer,
     uniform_group: wgpu::BindGroup,
     vertices: Option<wgpu::Buffer>,
@@ -61,6 +61,17 @@ pub struct Resources {
     /// What the resolved picture shows now (mesh version, camera, size): an unchanged frame
     /// is not drawn again, only copied.
     drawn: Option<(u64, Uniforms, [u32; 2])>,
+}
+
+/// GPU objects of the view, kept in egui-wgpu's callback resources: the pipelines, shared, and
+/// one [`Slot`] per viewport, made when a viewport is first drawn.
+pub struct Resources {
+    mesh_pipeline: wgpu::RenderPipeline,
+    blit_pipeline: wgpu::RenderPipeline,
+    blit_layout: wgpu::BindGroupLayout,
+    uniform_layout: wgpu::BindGroupLayout,
+    sampler: wgpu::Sampler,
+    slots: Vec<Slot>,
 }
 
 /// Creates the pipelines once, for egui's target format, and stores them.
@@ -193,20 +204,6 @@ pub fn install(rs: &egui_wgpu::RenderState) {
         multiview_mask: None,
         cache: None,
     });
-    let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("lopin uniforms"),
-        size: std::mem::size_of::<Uniforms>() as u64,
-        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
-    let uniform_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("lopin uniforms"),
-        layout: &uniform_layout,
-        entries: &[wgpu::BindGroupEntry {
-            binding: 0,
-            resource: uniforms.as_entire_binding(),
-        }],
-    });
     let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
         label: Some("lopin blit"),
         mag_filter: wgpu::FilterMode::Linear,
@@ -217,19 +214,46 @@ pub fn install(rs: &egui_wgpu::RenderState) {
         mesh_pipeline,
         blit_pipeline,
         blit_layout,
+        uniform_layout,
         sampler,
-        uniforms,
-        uniform_group,
-        vertices: None,
-        vertex_count: 0,
-        version: None,
-        targets: None,
-        drawn: None,
+        slots: Vec::new(),
     });
 }
 
-impl Resources {
-    fn ensure_targets(&mut self, device: &wgpu::Device, size: [u32; 2]) {
+impl Slot {
+    fn new(device: &wgpu::Device, layout: &wgpu::BindGroupLayout) -> Slot {
+        let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("lopin uniforms"),
+            size: std::mem::size_of::<Uniforms>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let uniform_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("lopin uniforms"),
+            layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: uniforms.as_entire_binding(),
+            }],
+        });
+        Slot {
+            uniforms,
+            uniform_group,
+            vertices: None,
+            vertex_count: 0,
+            version: None,
+            targets: None,
+            drawn: None,
+        }
+    }
+
+    fn ensure_targets(
+        &mut self,
+        device: &wgpu::Device,
+        size: [u32; 2],
+        blit_layout: &wgpu::BindGroupLayout,
+        sampler: &wgpu::Sampler,
+    ) {
         if self.targets.as_ref().is_some_and(|t| t.size == size) {
             return;
         }
@@ -263,7 +287,7 @@ impl Resources {
         let depth = texture("lopin depth", DEPTH, SAMPLES, attach);
         let blit_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("lopin blit"),
-            layout: &self.blit_layout,
+            layout: blit_layout,
             entries: &[
                 wgpu::BindGroupEntry {
                     binding: 0,
@@ -271,7 +295,7 @@ impl Resources {
                 },
                 wgpu::BindGroupEntry {
                     binding: 1,
-                    resource: wgpu::BindingResource::Sampler(&self.sampler),
+                    resource: wgpu::BindingResource::Sampler(sampler),
                 },
             ],
         });
@@ -316,11 +340,16 @@ impl egui_wgpu::CallbackTrait for SceneCallback {
         encoder: &mut wgpu::CommandEncoder,
         resources: &mut egui_wgpu::CallbackResources,
     ) -> Vec<wgpu::CommandBuffer> {
-        let Some(r) = resources.get_mut::<Resources>() else {
+        let Some(res) = resources.get_mut::<Resources>() else {
             return Vec::new();
         };
+        while res.slots.len() <= self.slot {
+            let slot = Slot::new(device, &res.uniform_layout);
+            res.slots.push(slot);
+        }
         let size = [self.size_px[0].max(1), self.size_px[1].max(1)];
-        r.ensure_targets(device, size);
+        let r = &mut res.slots[self.slot];
+        r.ensure_targets(device, size, &res.blit_layout, &res.sampler);
         let frame = (self.version, self.uniforms, size);
         if r.drawn == Some(frame) {
             return Vec::new();
@@ -364,7 +393,7 @@ impl egui_wgpu::CallbackTrait for SceneCallback {
             multiview_mask: None,
         });
         if let (Some(vb), true) = (&r.vertices, r.vertex_count > 0) {
-            pass.set_pipeline(&r.mesh_pipeline);
+            pass.set_pipeline(&res.mesh_pipeline);
             pass.set_bind_group(0, &r.uniform_group, &[]);
             pass.set_vertex_buffer(0, vb.slice(..));
             pass.draw(0..r.vertex_count, 0..1);
@@ -381,7 +410,7 @@ impl egui_wgpu::CallbackTrait for SceneCallback {
         let Some(r) = resources.get::<Resources>() else {
             return;
         };
-        let Some(t) = &r.targets else {
+        let Some(t) = r.slots.get(self.slot).and_then(|s| s.targets.as_ref()) else {
             return;
         };
         render_pass.set_pipeline(&r.blit_pipeline);

@@ -4,7 +4,9 @@
 //! probe and record requests. It also runs the background study ([`crate::study`]): when the
 //! user has been idle for a while, it solves the friction grid's values nearest-first, each warm
 //! from its nearest stored neighbour, and keeps every converged configuration (states in f32,
-//! a picture for the UI), so a value already stored is shown again without solving. It is a
+//! a picture for the UI), so a value already stored is shown again without solving; the
+//! configuration the UI compares with (pinned "A") is pictured at each displayed step first,
+//! paused or not. It is a
 //! state machine advanced one [`Service::tick`] at a time (one LATIN iteration or one request),
 //! so the same code runs on a background thread on the desktop and a few iterations per frame
 //! in the browser, where there are no threads. A newer solve request cancels the running solve
@@ -192,6 +194,9 @@ impl Service {
     /// How long to wait for a request before [`Service::tick`] has background work (None:
     /// none is coming until a request arrives).
     pub(crate) fn idle_wait(&self) -> Option<Duration> {
+        if self.pinned_unpictured().is_some() {
+            return Some(Duration::ZERO);
+        }
         let current = self.study_value()?;
         let step = self.display_step.get();
         let work = self.library.next_value(current).is_some()
@@ -216,10 +221,23 @@ impl Service {
         c.params.friction
     }
 
-    /// One unit of the background study, once the user has been idle long enough: starts
-    /// solving the next grid value, or pictures a stored configuration at the displayed step.
-    /// Returns whether it did something.
+    /// The stored configuration the UI compares with the current one, if its picture is not at
+    /// the displayed step.
+    fn pinned_unpictured(&self) -> Option<usize> {
+        let index = self.library.exact(self.control.pinned?)?;
+        let step = self.display_step.get();
+        (self.library.entries()[index].pictured_step != step).then_some(index)
+    }
+
+    /// One unit of the background study: the picture at the displayed step of the configuration
+    /// the UI compares with (at once, paused or not), or, once the user has been idle long
+    /// enough, starts solving the next grid value, or pictures a stored configuration at the
+    /// displayed step. Returns whether it did something.
     fn study_tick(&mut self) -> bool {
+        if let Some(index) = self.pinned_unpictured() {
+            self.send_picture(index, self.display_step.get());
+            return true;
+        }
         let Some(current) = self.study_value() else {
             return false;
         };
@@ -244,6 +262,12 @@ impl Service {
         let Some(index) = self.library.next_picture(current, step) else {
             return false;
         };
+        self.send_picture(index, step);
+        true
+    }
+
+    /// Pictures stored configuration `index` at `step` and sends the picture.
+    fn send_picture(&mut self, index: usize, step: usize) {
         self.library.pictured(index, step);
         if let Some(sol) = self.library.solution(index) {
             let e = self.library.entries()[index].clone();
@@ -260,7 +284,6 @@ impl Service {
                 store_bytes: 0,
             });
         }
-        true
     }
 
     fn cancel_background(&mut self) {

@@ -2,8 +2,10 @@
 //! friction coefficient, filling as configurations converge, with the current value and the
 //! pinned one marked; the background study's progress (values stored out of the grid, what it
 //! solves now, the memory of the stored configurations); the "pause background study" toggle;
-//! and the comparison with a pinned configuration "A" (pin, difference field on or off).
+//! and the comparison with a pinned configuration "A" (pin, unpin; the current configuration
+//! alone, the difference field, or A and the current one side by side).
 
+use crate::layout::ControlRects;
 use crate::study_view::{Compare, StudyView};
 use egui::Color32;
 use egui_plot::{Line, Plot, PlotPoints, Points, VLine};
@@ -14,8 +16,14 @@ fn mib(bytes: usize) -> f64 {
     bytes as f64 / (1024.0 * 1024.0)
 }
 
-/// The study section; `current` is the friction value the controls show.
-pub fn show(ui: &mut egui::Ui, study: &mut StudyView, current: Option<f64>) {
+/// The study section; `current` is the friction value the controls show. The "pin A" button
+/// and the "side by side" choice go into `controls`.
+pub fn show(
+    ui: &mut egui::Ui,
+    study: &mut StudyView,
+    current: Option<f64>,
+    controls: &mut ControlRects,
+) {
     egui::CollapsingHeader::new("Study: friction (background)")
         .default_open(true)
         .show(ui, |ui| {
@@ -23,11 +31,11 @@ pub fn show(ui: &mut egui::Ui, study: &mut StudyView, current: Option<f64>) {
                 ui.label("No contact interface: nothing to study.");
                 return;
             }
-            body(ui, study, current.unwrap_or(0.0));
+            body(ui, study, current.unwrap_or(0.0), controls);
         });
 }
 
-fn body(ui: &mut egui::Ui, study: &mut StudyView, current: f64) {
+fn body(ui: &mut egui::Ui, study: &mut StudyView, current: f64, controls: &mut ControlRects) {
     let grid = study.grid();
     let (lo, hi) = (grid[0], grid[grid.len() - 1]);
     let step = if grid.len() > 1 {
@@ -90,22 +98,36 @@ fn body(ui: &mut egui::Ui, study: &mut StudyView, current: f64) {
             }
         });
     ui.horizontal(|ui| {
-        if ui
+        let pin = ui
             .button("pin A")
-            .on_hover_text("Pin the current friction value as A, to compare with")
-            .clicked()
-        {
+            .on_hover_text("Pin the current friction value as A, to compare with");
+        controls.place("pin A", pin.rect);
+        if pin.clicked() {
             study.pinned = Some(current);
         }
         match study.pinned {
-            Some(a) => ui.label(format!("A: f = {a:.3}")),
-            None => ui.weak("nothing pinned"),
+            Some(a) => {
+                ui.label(format!("A: f = {a:.3}"));
+                if ui.small_button("unpin").clicked() {
+                    study.unpin();
+                }
+            }
+            None => {
+                ui.weak("nothing pinned");
+            }
         };
     });
     ui.add_enabled_ui(study.pinned.is_some(), |ui| {
-        ui.horizontal(|ui| {
+        ui.horizontal_wrapped(|ui| {
             ui.radio_value(&mut study.compare, Compare::Off, "current");
             ui.radio_value(&mut study.compare, Compare::Difference, "current − A");
+            let beside = ui
+                .radio_value(&mut study.compare, Compare::SideBySide, "side by side")
+                .on_hover_text(
+                    "A and the current value in two views with the same camera, field and \
+                     colour range",
+                );
+            controls.place("side by side", beside.rect);
         });
     });
 }

@@ -1,8 +1,9 @@
 //! The study as the UI sees it: the friction values the background study covers, every stored
 //! configuration with its quantities of interest and picture (the curve of the study panel),
 //! what the background study is solving, the "pause" toggle, the quantity plotted, the stand-in
-//! shown after a slider move (the nearest stored picture until the re-solve converges) and the
-//! configuration pinned as "A" for the difference field.
+//! shown after a slider move (the nearest stored picture until the re-solve converges), the
+//! configuration pinned as "A" and how it is compared with the current one (difference field,
+//! or side by side), and A's picture at the displayed step, drawn.
 
 use crate::field_cache::FieldCache;
 use crate::fields::StepFields;
@@ -47,6 +48,9 @@ pub enum Compare {
     Off,
     /// The current field minus A's, on a symmetric colour range.
     Difference,
+    /// A's picture and the current one in two viewports, with the same camera and one colour
+    /// range.
+    SideBySide,
 }
 
 /// Fields and contact histories drawn from a picture.
@@ -190,10 +194,29 @@ impl StudyView {
         self.running = value;
     }
 
-    /// Sends the pause toggle to the worker when it changed.
+    /// Unpins A: the current configuration alone again.
+    pub fn unpin(&mut self) {
+        self.pinned = None;
+        self.compare = Compare::Off;
+        self.pinned_drawn = None;
+    }
+
+    /// A's value when A is pinned and compared with the current configuration.
+    pub fn compared(&self) -> Option<f64> {
+        self.pinned.filter(|_| self.compare != Compare::Off)
+    }
+
+    /// A's value when A and the current configuration are drawn side by side.
+    pub fn side_by_side(&self) -> Option<f64> {
+        self.pinned.filter(|_| self.compare == Compare::SideBySide)
+    }
+
+    /// Sends the pause toggle and the compared configuration (pictured first at each step) to
+    /// the worker when they changed.
     pub fn sync(&mut self, worker: &mut Worker) {
         let control = StudyControl {
             paused: self.paused,
+            pinned: self.compared(),
             ..StudyControl::default()
         };
         if self.sent != Some(control) {

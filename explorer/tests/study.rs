@@ -3,7 +3,8 @@
 //! state equal a cold solve's within the sweep bound 30·tol; a request for a stored value is
 //! answered without solving; one between stored values starts warm from the nearest stored
 //! state in fewer iterations than cold; a user change cancels the background configuration;
-//! the difference field of two stored pictures matches the difference of two cold solutions.
+//! the difference field of two stored pictures matches the difference of two cold solutions;
+//! the pinned configuration is pictured at a new displayed step at once, paused or not.
 //! The desktop's solver thread and the browser's inline mode are both checked where they differ.
 
 use lopin_core::study::Quantities;
@@ -112,6 +113,7 @@ fn session(spawn: Spawn, idle_s: f64) -> (Worker, Params, Vec<Event>) {
     worker.set_study(StudyControl {
         paused: false,
         idle_s,
+        ..StudyControl::default()
     });
     let params = Params::of(&problem, &settings);
     let g = worker.solve(params.clone());
@@ -239,6 +241,7 @@ fn stored_value_shown_without_solving(spawn: Spawn) {
     worker.set_study(StudyControl {
         paused: true,
         idle_s: 0.0,
+        ..StudyControl::default()
     });
     let values: Vec<f64> = stored(&events).iter().map(|c| c.value).collect();
     params.friction = Some(values[2]);
@@ -280,6 +283,7 @@ fn a_value_between_stored_ones_starts_from_the_nearest_stored_state_in_fewer_ite
     worker.set_study(StudyControl {
         paused: true,
         idle_s: 0.0,
+        ..StudyControl::default()
     });
     // from 0.30 the user's newest state is 0.30; 0.385 is nearest the stored 0.40
     let target = 0.385;
@@ -332,6 +336,7 @@ fn user_change_cancels_background(spawn: Spawn) {
     worker.set_study(StudyControl {
         paused: false,
         idle_s: 0.0,
+        ..StudyControl::default()
     });
     let mut params = Params::of(&problem, &settings);
     let g0 = worker.solve(params.clone());
@@ -434,4 +439,72 @@ fn the_difference_of_two_stored_pictures_matches_the_difference_of_two_solutions
         assert!(size > 0.0, "friction changes {q:?}");
         assert!(gap / scale < 30.0 * tol, "{q:?}: {:.3e}", gap / scale);
     }
+}
+
+#[test]
+fn the_pinned_configuration_is_pictured_at_a_new_step_while_paused() {
+    pinned_pictured_at_a_new_step(threaded);
+}
+
+#[test]
+fn inline_the_pinned_configuration_is_pictured_at_a_new_step_while_paused() {
+    pinned_pictured_at_a_new_step(inline);
+}
+
+/// With the study paused, a new displayed step gets no picture of a stored configuration until
+/// it is pinned for comparison; then its picture at that step comes at once, equal to a cold
+/// solve's fields there.
+fn pinned_pictured_at_a_new_step(spawn: Spawn) {
+    let (problem, settings) = two_blocks();
+    let mut worker = spawn(problem.clone(), settings);
+    let first = problem.time.steps / 2;
+    worker.set_display_step(first);
+    let paused = StudyControl {
+        paused: true,
+        idle_s: 0.0,
+        ..StudyControl::default()
+    };
+    worker.set_study(paused);
+    let params = Params::of(&problem, &settings);
+    let f0 = params.friction.expect("contact");
+    worker.solve(params);
+    let mut events = Vec::new();
+    collect(&mut worker, &mut events, |e| matches!(e, Event::Stored(_)));
+    assert_eq!(stored(&events)[0].picture.step, first);
+    // paused and nothing pinned: nothing more comes
+    let next = 10;
+    worker.set_display_step(next);
+    worker.set_study(StudyControl {
+        idle_s: 0.5,
+        ..paused
+    });
+    let quiet = worker.wait(Duration::from_millis(800));
+    assert!(
+        !matches!(quiet, Some(Event::Stored(_))),
+        "a picture while paused: {quiet:?}"
+    );
+    // pinned: its picture at the displayed step
+    worker.set_study(StudyControl {
+        pinned: Some(f0),
+        ..paused
+    });
+    let mut after = Vec::new();
+    collect(&mut worker, &mut after, |e| matches!(e, Event::Stored(_)));
+    let c = stored(&after).pop().expect("a picture");
+    assert!(
+        (c.value - f0).abs() < 1e-12 && c.picture.step == next,
+        "{c:?}"
+    );
+    let (solver, sol) = cold(&problem, settings, f0);
+    let rel = velocity_gap(
+        &c.picture.fields(0, false),
+        &fields::compute(&solver, &sol, next, 0, false),
+    );
+    assert!(rel < 30.0 * settings.tol, "{rel:.3e} > 30 tol");
+    // pictured once: nothing more comes
+    let quiet = worker.wait(Duration::from_millis(300));
+    assert!(
+        !matches!(quiet, Some(Event::Stored(_))),
+        "pictured again: {quiet:?}"
+    );
 }

@@ -3,12 +3,13 @@
 // lopin_explorer::page_report): this script waits for the first converged solve, checks that
 // the 3D view is drawn (not blank) in a screenshot, clicks the friction slider's rail where the
 // page says it is and waits for each warm re-solve to converge, then switches the section on
-// and scrubs time (each must change the picture), and fails on any console error.
+// and scrubs time (each must change the picture), pins the current value as A and shows it side
+// by side with the current one (two viewports, both drawn), and fails on any console error.
 //
 //   node web/e2e/explorer.cjs URL OUT_DIR [MOVES]
 //
-// Writes OUT_DIR/web-first.png, web-after.png, web-section.png, web-time.png and
-// OUT_DIR/web-e2e.json (timings).
+// Writes OUT_DIR/web-first.png, web-after.png, web-section.png, web-time.png,
+// web-side-by-side.png and OUT_DIR/web-e2e.json (timings).
 "use strict";
 const path = require("path");
 const fs = require("fs");
@@ -269,7 +270,36 @@ async function main() {
     if (report.time_changed_fraction < 0.02) {
       fail(`scrubbing time left the view unchanged (${report.time_changed_fraction})`);
     }
-    for (const s of [after, cut, later]) delete s.png;
+
+    // pin A (the current value), then side by side: A's viewport on the left, the current one
+    // on the right, both drawn (A from its stored picture, made at this step at once)
+    const pin = control(last, "pin A");
+    await page.mouse.click(pin[0] + pin[2] / 2, pin[1] + pin[3] / 2);
+    last = await waitFor(
+      page,
+      () => document.getElementById("lopin-status").dataset.pinned !== "",
+      null,
+      "pinning A"
+    );
+    const beside = control(last, "side by side");
+    await page.mouse.click(beside[0] + 8, beside[1] + beside[3] / 2);
+    last = await waitFor(
+      page,
+      () => document.getElementById("lopin-status").dataset.besideDrawn === "true",
+      null,
+      "showing A side by side"
+    );
+    await page.waitForTimeout(300);
+    const left = rect(last.beside, "viewport of A");
+    const right = rect(last.view, "viewport of the current value");
+    if (!(left[0] + left[2] <= right[0] && Math.abs(left[2] - right[2]) < 1)) {
+      fail(`the side-by-side viewports overlap or differ in size: ${left} ${right}`);
+    }
+    const sideFile = path.join(outDir, "web-side-by-side.png");
+    const sideA = await checkDrawn(page, sideFile, left);
+    const sideB = await checkDrawn(page, sideFile, right);
+    report.side_by_side = { pinned: Number(last.pinned), a: sideA, b: sideB };
+    for (const s of [after, cut, later, sideA, sideB]) delete s.png;
     report.after_view = after;
     report.title = last.title;
   } finally {
