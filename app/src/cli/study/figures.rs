@@ -36,27 +36,6 @@ fn tick(x: &f64) -> String {
     }
 }
 
-#[cfg(test)]
-mod tests {
-    #[test]
-    fn ticks_are_short() {
-        let t = |x: f64| super::tick(&x);
-        assert_eq!(
-            [
-                t(0.0),
-                t(25.0),
-                t(48.0),
-                t(0.125),
-                t(2.5),
-                t(0.333),
-                t(1234.6)
-            ],
-            ["0", "25", "48", "0.125", "2.5", "0.333", "1235"]
-        );
-        assert_eq!([t(6.2e5), t(1e-5)], ["6.20e5", "1.00e-5"]);
-    }
-}
-
 /// Title of quantity k with its unit.
 fn title(k: usize) -> String {
     let (name, unit) = Quantities::NAMES[k];
@@ -400,4 +379,25 @@ pub fn sensitivities(path: &FsPath, design: &Design, sens: &[Sensitivity]) -> an
     }
     root.present().map_err(err)?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn ticks_are_short() {
+        let t = |x: f64| super::tick(&x);
+        assert_eq!(
+            [
+                t(0.0),
+                t(25.0),
+                t(48.0),
+                t(0.125),
+                t(2.5),
+                t(0.333),
+                t(1234.6)
+            ],
+            ["0", "25", "48", "0.125", "2.5", "0.333", "1235"]
+        );
+        assert_eq!([t(6.2e5), t(1e-5)], ["6.20e5", "1.00e-5"]);
+    }
 }
