@@ -45,6 +45,16 @@ fn scratch(name: &str) -> std::path::PathBuf {
     d
 }
 
+/// The stderr of a job that failed and its one `error` line (every rank agreed on one message).
+fn one_error(out: &Output) -> (String, String) {
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr).into_owned();
+    let ours: Vec<&str> = err.lines().filter(|l| l.starts_with("error")).collect();
+    assert_eq!(ours.len(), 1, "{err}");
+    let line = ours[0].to_string();
+    (err, line)
+}
+
 fn bytes(p: &Path) -> Vec<u8> {
     std::fs::read(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
 }
@@ -192,10 +202,7 @@ fn a_study_on_ranks_equals_its_chains_on_threads() {
     )
     .output()
     .expect("starts");
-    assert!(!out.status.success());
-    let err = String::from_utf8_lossy(&out.stderr);
-    let ours: Vec<&str> = err.lines().filter(|l| l.starts_with("error")).collect();
-    assert_eq!(ours.len(), 1, "{err}");
+    let (err, _) = one_error(&out);
     assert!(err.contains("--chains") && err.contains("idle"), "{err}");
 }
 
@@ -255,11 +262,8 @@ fn bad_input_ends_every_rank_with_one_message() {
     let out = mpirun(3, &["run", "two-blocks", "--split", "2", "--tol", "-1"])
         .output()
         .expect("starts");
-    assert!(!out.status.success());
-    let err = String::from_utf8_lossy(&out.stderr);
-    let ours: Vec<&str> = err.lines().filter(|l| l.starts_with("error")).collect();
-    assert_eq!(ours.len(), 1, "{err}");
-    assert!(ours[0].contains("tol"), "{err}");
+    let (err, line) = one_error(&out);
+    assert!(line.contains("tol"), "{err}");
     assert!(t.elapsed() < Duration::from_secs(60));
 }
 

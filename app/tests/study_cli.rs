@@ -13,6 +13,17 @@ fn lopin() -> Command {
     Command::new(env!("CARGO_BIN_EXE_lopin"))
 }
 
+/// Runs `c`, which must succeed; its output.
+fn succeeds(c: &mut Command) -> std::process::Output {
+    let out = c.output().expect("runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out
+}
+
 fn scratch(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("lopin-study-{name}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&d);
@@ -63,17 +74,7 @@ fn column(line: &str, header: &str, name: &str) -> f64 {
 #[test]
 fn a_killed_study_resumes_without_losing_a_row() {
     let full = scratch("full");
-    let out = lopin()
-        .args(ARGS)
-        .args(["--json", "--out"])
-        .arg(&full)
-        .output()
-        .expect("runs");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let out = succeeds(lopin().args(ARGS).args(["--json", "--out"]).arg(&full));
     let json: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
     assert_eq!(json["totals"]["configurations"], 8);
     assert_eq!(json["totals"]["converged"], 8);
@@ -150,17 +151,7 @@ fn a_killed_study_resumes_without_losing_a_row() {
     );
     assert_eq!(rows(&part), kept);
 
-    let resumed = lopin()
-        .args(ARGS)
-        .args(["--resume", "--out"])
-        .arg(&part)
-        .output()
-        .expect("runs");
-    assert!(
-        resumed.status.success(),
-        "{}",
-        String::from_utf8_lossy(&resumed.stderr)
-    );
+    succeeds(lopin().args(ARGS).args(["--resume", "--out"]).arg(&part));
     let after = rows(&part);
     assert_eq!(after.len(), 8);
     for row in &kept {
@@ -195,16 +186,11 @@ fn a_killed_study_resumes_without_losing_a_row() {
     }
     std::fs::write(split.join("study.csv"), even).expect("test value");
     std::fs::write(side.join("study.csv"), odd).expect("test value");
-    let taken = lopin()
-        .args(ARGS)
-        .args(["--resume", "--json", "--out"])
-        .arg(&split)
-        .output()
-        .expect("runs");
-    assert!(
-        taken.status.success(),
-        "{}",
-        String::from_utf8_lossy(&taken.stderr)
+    let taken = succeeds(
+        lopin()
+            .args(ARGS)
+            .args(["--resume", "--json", "--out"])
+            .arg(&split),
     );
     assert_eq!(rows(&split), rows(&full));
     assert!(!side.exists(), "rank-1/ is left");
