@@ -45,12 +45,48 @@ impl StateStore {
         });
     }
 
-    /// The stored configuration nearest `point`: (its index, the distance).
+    /// The stored configuration nearest `point`: (its index, the distance). Among equally near
+    /// ones (to 1e-9), the one reached by a step along the earliest parameter, then the latest
+    /// stored: on a grid walked with the first parameter fastest ([`super::Path::greedy`]),
+    /// each configuration starts from its neighbour along that parameter (a friction step)
+    /// rather than from the previous row (a gap step, which moves the impact time and costs
+    /// nearly a cold solve), and the path's own predecessor wins the remaining ties.
     pub fn nearest(&self, point: &[f64]) -> Option<(usize, f64)> {
-        self.entries
+        let d = self
+            .entries
             .iter()
-            .map(|e| (e.index, distance(&e.point, point)))
-            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .map(|e| distance(&e.point, point))
+            .min_by(f64::total_cmp)?;
+        // the move to `point` as |Δ| per parameter: the lexicographically largest is the step
+        // along the earliest parameter
+        let moves = |e: &Compact| -> Vec<f64> {
+            e.point
+                .iter()
+                .zip(point)
+                .map(|(a, b)| (a - b).abs())
+                .collect()
+        };
+        let ties = self
+            .entries
+            .iter()
+            .enumerate()
+            .filter(|(_, e)| distance(&e.point, point) <= d + 1e-9);
+        let (_, e) = ties.max_by(|(i, a), (j, b)| {
+            moves(a)
+                .iter()
+                .zip(&moves(b))
+                .map(|(x, y)| {
+                    if (x - y).abs() <= 1e-9 {
+                        std::cmp::Ordering::Equal
+                    } else {
+                        x.total_cmp(y)
+                    }
+                })
+                .find(|o| o.is_ne())
+                .unwrap_or(std::cmp::Ordering::Equal)
+                .then(i.cmp(j))
+        })?;
+        Some((e.index, distance(&e.point, point)))
     }
 
     /// The state of configuration `index`, in f64.
@@ -190,6 +226,33 @@ mod tests {
         assert!(!back.subs[1].is_present() && back.subs[1].len == 3);
         assert_eq!(store.bytes(), 2 * (12 * 4 + 16 + 32));
         assert!(store.state(5).is_none());
+    }
+
+    #[test]
+    fn equally_near_configurations_go_to_the_step_along_the_first_parameter() {
+        let state = InterfaceState {
+            steps: 0,
+            subs: vec![TraceHistory {
+                len: 1,
+                f: vec![0.0],
+                w: vec![0.0],
+            }],
+        };
+        let mut store = StateStore::default();
+        // a grid row (gap 0.0) then the start of the next row (gap 0.1), walked f fastest
+        store.insert(0, &[0.0, 0.0], &state);
+        store.insert(1, &[0.1, 0.0], &state);
+        store.insert(2, &[0.1, 0.1], &state);
+        // (0, 0.1) is 0.1 from both (0, 0) (a step along the second parameter) and (0.1, 0.1)
+        // (along the first): the first parameter's step wins, whatever was stored first
+        assert_eq!(store.nearest(&[0.0, 0.1]).map(|n| n.0), Some(2));
+        // (0, 0) nearer by a rounding difference only: still a tie
+        assert_eq!(store.nearest(&[0.0, 0.1 - 1e-12]).map(|n| n.0), Some(2));
+        // two equal steps along the same parameter (to rounding): the latest stored
+        store.insert(3, &[0.2, 0.1], &state);
+        assert_eq!(store.nearest(&[0.15, 0.1]).map(|n| n.0), Some(3));
+        // a strictly nearer configuration wins over any tie rule
+        assert_eq!(store.nearest(&[0.0, 0.04]).map(|n| n.0), Some(0));
     }
 
     #[test]
