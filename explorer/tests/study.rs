@@ -104,6 +104,25 @@ fn velocity_gap(a: &StepFields, b: &StepFields) -> f64 {
     d / peak
 }
 
+/// The background study held still.
+fn paused() -> StudyControl {
+    StudyControl {
+        paused: true,
+        idle_s: 0.0,
+        ..StudyControl::default()
+    }
+}
+
+/// Waits until the background study has stored `n` configurations, then pauses it.
+fn store_then_pause(worker: &mut Worker, events: &mut Vec<Event>, n: usize) {
+    collect(
+        worker,
+        events,
+        |e| matches!(e, Event::Stored(c) if c.stored >= n),
+    );
+    worker.set_study(paused());
+}
+
 /// Starts a session with the background study running at once when idle; returns the worker,
 /// its parameters and the events of the first (cold) solve.
 fn session(spawn: Spawn, idle_s: f64) -> (Worker, Params, Vec<Event>) {
@@ -233,16 +252,7 @@ fn inline_a_stored_value_is_shown_without_solving() {
 
 fn stored_value_shown_without_solving(spawn: Spawn) {
     let (mut worker, mut params, mut events) = session(spawn, 0.0);
-    collect(
-        &mut worker,
-        &mut events,
-        |e| matches!(e, Event::Stored(c) if c.stored >= 3),
-    );
-    worker.set_study(StudyControl {
-        paused: true,
-        idle_s: 0.0,
-        ..StudyControl::default()
-    });
+    store_then_pause(&mut worker, &mut events, 3);
     let values: Vec<f64> = stored(&events).iter().map(|c| c.value).collect();
     params.friction = Some(values[2]);
     let g = worker.solve(params.clone());
@@ -275,16 +285,7 @@ fn a_value_between_stored_ones_starts_from_the_nearest_stored_state_in_fewer_ite
     let (problem, settings) = two_blocks();
     let (mut worker, mut params, mut events) = session(inline, 0.0);
     // 0.30 (the scene's), then 0.25, 0.35, 0.20, 0.40 …
-    collect(
-        &mut worker,
-        &mut events,
-        |e| matches!(e, Event::Stored(c) if c.stored >= 5),
-    );
-    worker.set_study(StudyControl {
-        paused: true,
-        idle_s: 0.0,
-        ..StudyControl::default()
-    });
+    store_then_pause(&mut worker, &mut events, 5);
     // from 0.30 the user's newest state is 0.30; 0.385 is nearest the stored 0.40
     let target = 0.385;
     params.friction = Some(target);
@@ -459,12 +460,7 @@ fn pinned_pictured_at_a_new_step(spawn: Spawn) {
     let mut worker = spawn(problem.clone(), settings);
     let first = problem.time.steps / 2;
     worker.set_display_step(first);
-    let paused = StudyControl {
-        paused: true,
-        idle_s: 0.0,
-        ..StudyControl::default()
-    };
-    worker.set_study(paused);
+    worker.set_study(paused());
     let params = Params::of(&problem, &settings);
     let f0 = params.friction.expect("contact");
     worker.solve(params);
@@ -476,7 +472,7 @@ fn pinned_pictured_at_a_new_step(spawn: Spawn) {
     worker.set_display_step(next);
     worker.set_study(StudyControl {
         idle_s: 0.5,
-        ..paused
+        ..paused()
     });
     let quiet = worker.wait(Duration::from_millis(800));
     assert!(
@@ -486,7 +482,7 @@ fn pinned_pictured_at_a_new_step(spawn: Spawn) {
     // pinned: its picture at the displayed step
     worker.set_study(StudyControl {
         pinned: Some(f0),
-        ..paused
+        ..paused()
     });
     let mut after = Vec::new();
     collect(&mut worker, &mut after, |e| matches!(e, Event::Stored(_)));

@@ -36,6 +36,27 @@ pub fn distance(a: &[f64], b: &[f64]) -> f64 {
         .sqrt()
 }
 
+/// The move from `a` to `b`: |Δ| per parameter.
+pub fn moves(a: &[f64], b: &[f64]) -> Vec<f64> {
+    a.iter().zip(b).map(|(x, y)| (x - y).abs()).collect()
+}
+
+/// Compares two moves ([`moves`]) lexicographically, entries within `tol` counting as equal:
+/// the greater is the step along the earlier parameter.
+pub fn along_earlier(a: &[f64], b: &[f64], tol: f64) -> std::cmp::Ordering {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| {
+            if (x - y).abs() <= tol {
+                std::cmp::Ordering::Equal
+            } else {
+                x.total_cmp(y)
+            }
+        })
+        .find(|o| o.is_ne())
+        .unwrap_or(std::cmp::Ordering::Equal)
+}
+
 /// A visiting order and its length in scaled space.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Path {
@@ -77,23 +98,10 @@ impl Path {
             };
             // among the nearest, the step along the earliest parameter (so a grid is walked
             // with the first parameter varying fastest), then the lowest index
-            let moves = |j: usize| -> Vec<f64> {
-                s[at]
-                    .iter()
-                    .zip(&s[j])
-                    .map(|(a, b)| (a - b).abs())
-                    .collect()
-            };
             let j = (0..n)
                 .filter(|&j| left[j] && distance(&s[at], &s[j]) <= d + 1e-9)
                 .max_by(|&a, &b| {
-                    moves(a)
-                        .iter()
-                        .zip(&moves(b))
-                        .map(|(x, y)| x.total_cmp(y))
-                        .find(|o| o.is_ne())
-                        .unwrap_or(std::cmp::Ordering::Equal)
-                        .then(b.cmp(&a))
+                    along_earlier(&moves(&s[at], &s[a]), &moves(&s[at], &s[b]), 0.0).then(b.cmp(&a))
                 })
                 .unwrap_or(at);
             length += d;

@@ -3,7 +3,7 @@
 //! the nearest solved configuration to start the next one from.
 
 use crate::state::{InterfaceState, TraceHistory};
-use crate::study::path::distance;
+use crate::study::path::{along_earlier, distance, moves};
 
 /// One stored state.
 #[derive(Debug, Clone)]
@@ -52,41 +52,19 @@ impl StateStore {
     /// rather than from the previous row (a gap step, which moves the impact time and costs
     /// nearly a cold solve), and the path's own predecessor wins the remaining ties.
     pub fn nearest(&self, point: &[f64]) -> Option<(usize, f64)> {
-        let d = self
-            .entries
-            .iter()
-            .map(|e| distance(&e.point, point))
-            .min_by(f64::total_cmp)?;
-        // the move to `point` as |Δ| per parameter: the lexicographically largest is the step
-        // along the earliest parameter
-        let moves = |e: &Compact| -> Vec<f64> {
-            e.point
-                .iter()
-                .zip(point)
-                .map(|(a, b)| (a - b).abs())
-                .collect()
-        };
-        let ties = self
+        let near: Vec<(usize, f64)> = self
             .entries
             .iter()
             .enumerate()
-            .filter(|(_, e)| distance(&e.point, point) <= d + 1e-9);
-        let (_, e) = ties.max_by(|(i, a), (j, b)| {
-            moves(a)
-                .iter()
-                .zip(&moves(b))
-                .map(|(x, y)| {
-                    if (x - y).abs() <= 1e-9 {
-                        std::cmp::Ordering::Equal
-                    } else {
-                        x.total_cmp(y)
-                    }
-                })
-                .find(|o| o.is_ne())
-                .unwrap_or(std::cmp::Ordering::Equal)
-                .then(i.cmp(j))
-        })?;
-        Some((e.index, distance(&e.point, point)))
+            .map(|(k, e)| (k, distance(&e.point, point)))
+            .collect();
+        let d = near.iter().map(|n| n.1).min_by(f64::total_cmp)?;
+        let step = |k: usize| moves(&self.entries[k].point, point);
+        let (k, dk) = near
+            .into_iter()
+            .filter(|n| n.1 <= d + 1e-9)
+            .max_by(|a, b| along_earlier(&step(a.0), &step(b.0), 1e-9).then(a.0.cmp(&b.0)))?;
+        Some((self.entries[k].index, dk))
     }
 
     /// The state of configuration `index`, in f64.

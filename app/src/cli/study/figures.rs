@@ -17,6 +17,24 @@ const PANEL: (u32, u32) = (420, 300);
 /// Share of an axis' span added on each side.
 const PAD: f64 = 0.06;
 
+/// A drawing area of a figure.
+type Area<'a> = DrawingArea<BitMapBackend<'a>, plotters::coord::Shift>;
+
+/// The white picture of `path` cut into `rows` × `cols` panels of `panel` pixels: the whole
+/// (to present) and its panels, row by row.
+fn sheet(
+    path: &FsPath,
+    (rows, cols): (usize, usize),
+    panel: (u32, u32),
+) -> anyhow::Result<(Area<'_>, Vec<Area<'_>>)> {
+    fonts();
+    let size = (panel.0 * cols as u32, panel.1 * rows as u32);
+    let root = BitMapBackend::new(path, size).into_drawing_area();
+    root.fill(&WHITE).map_err(err)?;
+    let areas = root.split_evenly((rows, cols));
+    Ok((root, areas))
+}
+
 /// A tick label: plain for moderate magnitudes, scientific otherwise.
 fn tick(x: &f64) -> String {
     let a = x.abs();
@@ -100,13 +118,9 @@ fn chart<'a, 'b>(
 /// Each quantity (rows) against each parameter (columns), one point per configuration,
 /// coloured by the second parameter (the first for the second column) when there are two.
 pub fn quantities(path: &FsPath, design: &Design, outcomes: &[Outcome]) -> anyhow::Result<()> {
-    fonts();
     let d = design.targets.len();
     let nq = Quantities::NAMES.len();
-    let root =
-        BitMapBackend::new(path, (PANEL.0 * d as u32, PANEL.1 * nq as u32)).into_drawing_area();
-    root.fill(&WHITE).map_err(err)?;
-    let areas = root.split_evenly((nq, d));
+    let (root, areas) = sheet(path, (nq, d), PANEL)?;
     for k in 0..nq {
         for p in 0..d {
             let area = &areas[k * d + p];
@@ -167,11 +181,8 @@ pub fn map(path: &FsPath, design: &Design, outcomes: &[Outcome]) -> anyhow::Resu
     if design.targets.len() < 2 {
         return Ok(());
     }
-    fonts();
     let nq = Quantities::NAMES.len();
-    let root = BitMapBackend::new(path, (PANEL.0 * 3, (PANEL.1 + 40) * 2)).into_drawing_area();
-    root.fill(&WHITE).map_err(err)?;
-    let areas = root.split_evenly((2, 3));
+    let (root, areas) = sheet(path, (2, 3), (PANEL.0, PANEL.1 + 40))?;
     let xy: Vec<(f64, f64)> = outcomes
         .iter()
         .map(|o| (design.points[o.index][0], design.points[o.index][1]))
@@ -262,11 +273,8 @@ fn span(v: &[f64]) -> f64 {
 /// Histograms of every quantity over a sampled study, with its statistics in the title and
 /// lines at the mean and the 5 % and 95 % quantiles.
 pub fn histograms(path: &FsPath, outcomes: &[Outcome], stats: &[Statistics]) -> anyhow::Result<()> {
-    fonts();
     let nq = Quantities::NAMES.len();
-    let root = BitMapBackend::new(path, (PANEL.0 * 3, (PANEL.1 + 40) * 2)).into_drawing_area();
-    root.fill(&WHITE).map_err(err)?;
-    let areas = root.split_evenly((2, 3));
+    let (root, areas) = sheet(path, (2, 3), (PANEL.0, PANEL.1 + 40))?;
     let bins = ((outcomes.len() as f64).sqrt().ceil() as usize).clamp(5, 30);
     for (k, area) in areas.iter().enumerate().take(nq) {
         let s = &stats[k];
@@ -336,13 +344,9 @@ pub fn sensitivities(path: &FsPath, design: &Design, sens: &[Sensitivity]) -> an
     if sens.is_empty() {
         return Ok(());
     }
-    fonts();
     let nq = Quantities::NAMES.len();
     let d = design.targets.len();
-    let root =
-        BitMapBackend::new(path, (PANEL.0 * d as u32, PANEL.1 * nq as u32)).into_drawing_area();
-    root.fill(&WHITE).map_err(err)?;
-    let areas = root.split_evenly((nq, d));
+    let (root, areas) = sheet(path, (nq, d), PANEL)?;
     for k in 0..nq {
         for p in 0..d {
             let area = &areas[k * d + p];
