@@ -2,7 +2,8 @@
 //! gap on `two-blocks` along the greedy path (friction first), warm-started from the nearest
 //! solved configuration or from a parallelogram of three, against cold solves of every
 //! configuration: fewer iterations, and the same quantities of interest within the tolerance's
-//! reach; two chains solve every configuration once with two cold starts.
+//! reach, on the whole interval and on one-step windows (the default of a study with contact);
+//! two chains solve every configuration once with two cold starts.
 
 use std::sync::Mutex;
 
@@ -20,14 +21,27 @@ fn run_with(chains: usize, cold: bool, predictor: Predictor) -> Vec<Outcome> {
     run_grid(chains, cold, predictor, "0:0.5:0.1", "0,4e-6")
 }
 
-/// A study of the grid `f` × `gap` on two-blocks (ρ∞ = 0.5, η < 1e-4, the whole interval).
+/// A study of the grid `f` × `gap` on two-blocks (ρ∞ = 0.5, η < 1e-4) over the whole interval
+/// (`--window whole`), where each start is one state for every step.
 fn run_grid(chains: usize, cold: bool, predictor: Predictor, f: &str, gap: &str) -> Vec<Outcome> {
+    run_windows(chains, cold, predictor, f, gap, None)
+}
+
+/// [`run_grid`] on windows of `window` steps (None: the whole interval).
+fn run_windows(
+    chains: usize,
+    cold: bool,
+    predictor: Predictor,
+    f: &str,
+    gap: &str,
+    window: Option<usize>,
+) -> Vec<Outcome> {
     let spec = scene::load("two-blocks").expect("scene");
     let mut problem = scene::build::build(&spec, "two-blocks").expect("builds");
     problem.scheme = TimeScheme::new(0.5);
     let mut settings = Settings::for_problem(&problem, &spec.solver);
     settings.tol = 1e-4;
-    settings.window = None; // the whole interval, as studies run
+    settings.window = window;
     let design = Design::grid(vec![
         (
             Target::parse("f", &problem).expect("f"),
@@ -60,6 +74,29 @@ fn run_grid(chains: usize, cold: bool, predictor: Predictor, f: &str, gap: &str)
     let mut out = out.into_inner().expect("lock");
     out.sort_by_key(|o| o.index);
     out
+}
+
+/// The quantities of interest of two studies of the same design agree configuration by
+/// configuration to `rel` of their size.
+fn agree(a: &[Outcome], b: &[Outcome], rel: f64) {
+    assert_eq!(a.len(), b.len());
+    for (a, b) in a.iter().zip(b) {
+        assert_eq!(a.index, b.index);
+        let (qa, qb) = (a.quantities.values(), b.quantities.values());
+        for (k, (x, y)) in qa.iter().zip(&qb).enumerate() {
+            // slip and friction work vanish at full stick: compare them on their largest value
+            let scale = x.abs().max(y.abs()).max(match k {
+                1 => 1e-5,
+                4 => 1e-2,
+                _ => 1e-30,
+            });
+            assert!(
+                (x - y).abs() <= rel * scale,
+                "configuration {}: quantity {k}: {x:e} against {y:e}",
+                a.index
+            );
+        }
+    }
 }
 
 /// Total iterations of a study.
@@ -108,23 +145,8 @@ fn a_warm_grid_costs_a_fraction_of_cold_solves_and_agrees_with_them() {
         }
     }
     assert!(closed >= 4, "{closed} parallelogram starts");
-    for (a, b) in warm.iter().chain(&para).zip(cold.iter().chain(&cold)) {
-        assert_eq!(a.index, b.index);
-        let (qa, qb) = (a.quantities.values(), b.quantities.values());
-        for (k, (x, y)) in qa.iter().zip(&qb).enumerate() {
-            // slip and friction work vanish at full stick: compare them on their largest value
-            let scale = x.abs().max(y.abs()).max(match k {
-                1 => 1e-5,
-                4 => 1e-2,
-                _ => 1e-30,
-            });
-            assert!(
-                (x - y).abs() <= 2e-2 * scale,
-                "configuration {}: quantity {k} warm {x:e} cold {y:e}",
-                a.index
-            );
-        }
-    }
+    agree(&warm, &cold, 2e-2);
+    agree(&para, &cold, 2e-2);
     // no friction work without friction, some with it while the interface slips
     for o in &warm {
         let q = o.quantities;
@@ -183,4 +205,21 @@ fn two_chains_solve_every_configuration_once_with_two_cold_starts() {
     assert_eq!(indices, (0..12).collect::<Vec<_>>());
     assert_eq!(two.iter().filter(|o| o.start.is_none()).count(), 2);
     assert_eq!(two.iter().filter(|o| o.chain == 1).count(), 6);
+}
+
+#[test]
+fn on_one_step_windows_a_warm_study_saves_iterations_and_agrees_with_the_whole_interval() {
+    // the default of a study with contact: one-step windows, each started from the nearest
+    // solved configuration's converged steps
+    let (f, gap) = ("0:0.5:0.1", "0,4e-6");
+    let warm = run_windows(1, false, Predictor::Nearest, f, gap, Some(1));
+    let cold = run_windows(1, true, Predictor::Nearest, f, gap, Some(1));
+    let whole = run_grid(1, true, Predictor::Nearest, f, gap);
+    assert!(warm.iter().chain(&cold).all(|o| o.converged));
+    let (w, c) = (total(&warm), total(&cold));
+    println!("6 x 2 f x gap on one-step windows: warm {w}, cold {c}");
+    assert!(10 * w <= 8 * c, "warm {w} against cold {c}");
+    // one-step windows and the whole interval converge to the same discrete solution
+    agree(&warm, &cold, 2e-2);
+    agree(&warm, &whole, 2e-2);
 }

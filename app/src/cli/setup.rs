@@ -68,7 +68,8 @@ pub struct SceneArgs {
     pub split: usize,
     /// Time windows: a length in steps (1 = incremental), `whole` (the whole interval) or `auto`
     /// (the default: the scene's `solver.window`, else chosen for the command: one-step windows
-    /// for one cold solve, the whole interval for a warm-started sweep; the report says which).
+    /// for one solve or a study of a scene with contact, the whole interval without contact;
+    /// the report says which).
     #[arg(long, allow_negative_numbers = true, value_parser = WindowRequest::parse)]
     pub window: Option<WindowRequest>,
     /// Where a cold time window's iteration starts: `smooth` (extrapolate the mean change of
