@@ -6,9 +6,9 @@
 //! interval (`two-blocks-ramp` at η < 1e-6: 0.39 s against 4.07 s; `granular-paper`: 70 s
 //! against 9 min), for an error of the same size against the converged solution at a given
 //! tolerance; without contact (`bar`, `bar-bimaterial`) the whole interval reaches the default
-//! η < 1e-3 in 19–31 iterations, 5× faster than the windows. A warm-started study or the
-//! explorer's slider restarts from a converged neighbour over the whole interval, where a few
-//! iterations suffice, so the explorer keeps the whole interval. A study of a scene with contact
+//! η < 1e-3 in 19–31 iterations, 5× faster than the windows. The explorer's slider restarts
+//! from a converged neighbour over the whole interval, where a few iterations suffice, and
+//! streams each iterate of the whole interval into the view. A study of a scene with contact
 //! (`lopin study`, `lopin sweep`) runs one-step windows, each started from the nearest solved
 //! configuration's converged steps: measured on `two-blocks`, the 11 × 11 grid of f × gap solves
 //! warm in 10.3 s against 82.0 s over the whole interval, `gap-impact` and `granular-small`
@@ -25,7 +25,8 @@ pub enum Task {
     /// One cold solve (`lopin run`, `compare`, `estimate`).
     #[default]
     Single,
-    /// A warm-started study: each value restarts from a converged one (`lopin sweep`).
+    /// A warm-started study: each value restarts from a converged one (`lopin study`, `lopin
+    /// sweep`).
     Study,
     /// The explorer: a cold solve, then warm re-solves after each slider move.
     Interactive,
