@@ -8,6 +8,7 @@
 
 pub mod design;
 pub mod path;
+pub mod projection;
 pub mod quantities;
 pub mod runner;
 pub mod store;

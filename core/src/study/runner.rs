@@ -1,6 +1,7 @@
 //! Runs a study: its chains at once on threads, each with its own solver (one factorization per
 //! chain, METHOD §4), each configuration warm-started from the nearest configuration its chain
-//! has solved ([`super::store`], METHOD §8) or cold at a chain's start; every finished
+//! has solved ([`super::store`], METHOD §8), a parallelogram of three or a projection on the
+//! nearest ones ([`super::projection`]), or cold at a chain's start; every finished
 //! configuration handed to the caller at once (files are the caller's, so a stopped study keeps
 //! every finished configuration). A failure stops the other chains after their current
 //! configuration.
@@ -11,7 +12,7 @@ use std::sync::Mutex;
 use crate::counters::Instant;
 use crate::error::Result;
 use crate::solver::Solver;
-use crate::study::{path::scaled, Chains, Design, Quantities, StateStore};
+use crate::study::{path::scaled, projection, Chains, Design, Quantities, StateStore};
 
 /// One solved configuration.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -29,6 +30,10 @@ pub struct Outcome {
     pub start_change: Option<(usize, usize)>,
     /// Scaled distance to that start.
     pub start_distance: Option<f64>,
+    /// A projected start's ρ_Γ: of the nearest state alone, and of the start
+    /// ([`super::projection`]).
+    #[serde(default)]
+    pub start_residual: Option<(f64, f64)>,
     pub iterations: usize,
     pub eta: f64,
     pub converged: bool,
@@ -59,6 +64,45 @@ pub enum Predictor {
     /// one ([`StateStore::parallelogram`]: on a grid, the change one parameter step made on the
     /// neighbouring row carried over), else the nearest.
     Parallelogram,
+    /// The affine combination of the [`projection::BASIS`] nearest stored states closest to
+    /// the new configuration's interface behaviour ([`super::projection`]).
+    Projection,
+}
+
+impl Predictor {
+    /// Every predictor, in the order the help lists them.
+    pub const ALL: [Self; 3] = [Self::Nearest, Self::Parallelogram, Self::Projection];
+
+    /// Name.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::Nearest => "nearest",
+            Self::Parallelogram => "parallelogram",
+            Self::Projection => "projection",
+        }
+    }
+
+    /// The predictor of a study that asks for none, and why: the projection on the whole
+    /// interval with a dissipative scheme, where it saves iterations, else the nearest state
+    /// (module doc of [`super::projection`]).
+    pub fn auto(whole_interval: bool, rho_inf: f64) -> (Self, &'static str) {
+        match (whole_interval, rho_inf < 1.0) {
+            (true, true) => (
+                Self::Projection,
+                "auto: the whole interval with a dissipative scheme, where the projection on the \
+                 nearest states saves iterations",
+            ),
+            (true, false) => (
+                Self::Nearest,
+                "auto: the undamped rule, whose alternating mode makes a projected start no \
+                 better than the nearest state",
+            ),
+            (false, _) => (
+                Self::Nearest,
+                "auto: time windows, each started from the nearest state's converged step",
+            ),
+        }
+    }
 }
 
 /// Runs `chains` of `design`: `make_solver` builds one solver per chain; `done(i)` says that
@@ -141,6 +185,8 @@ fn run_chain(
         for (t, &x) in design.targets.iter().zip(&design.points[i]) {
             solver.set_parameter_in(t.parameter, t.zone, x)?;
         }
+        // the wall time includes the start's making (a projection's local stages)
+        let t = Instant::now();
         let near = if options.cold {
             None
         } else {
@@ -150,11 +196,25 @@ fn run_chain(
             Predictor::Parallelogram if !options.cold => store.parallelogram(&points[i], 8),
             _ => None,
         };
-        let start = match para {
+        let mut start = match para {
             Some((j, k, l)) => store.combined(j, k, l),
             None => near.and_then(|(j, _)| store.state(j)),
         };
-        let t = Instant::now();
+        let mut start_residual = None;
+        if let (Predictor::Projection, false, Some(s0), Some((j0, _))) =
+            (options.predictor, options.cold, &start, near)
+        {
+            // (a study's solvers hold everything: chains, not substructures, go to the ranks)
+            let others: Vec<_> = store
+                .nearest_k(&points[i], projection::BASIS)
+                .into_iter()
+                .filter(|&j| j != j0)
+                .filter_map(|j| store.state(j))
+                .collect();
+            let p = projection::project(&solver, s0, &others, projection::GAUSS_NEWTON_STEPS);
+            start_residual = Some((p.residual_nearest, p.residual));
+            start = Some(p.state);
+        }
         let sol = solver.solve(start.as_ref())?;
         let wall_s = t.elapsed().as_secs_f64();
         let quantities = Quantities::of(&solver, &sol);
@@ -172,6 +232,7 @@ fn run_chain(
             position,
             start: para.map(|p| p.0).or(near.map(|n| n.0)),
             start_change: para.map(|p| (p.1, p.2)),
+            start_residual,
             start_distance: match para {
                 Some((j, _, _)) => store.distance_to(j, &points[i]),
                 None => near.map(|n| n.1),

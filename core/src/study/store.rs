@@ -67,6 +67,17 @@ impl StateStore {
         Some((self.entries[k].index, dk))
     }
 
+    /// The `count` stored configurations nearest `point`, nearest first.
+    pub fn nearest_k(&self, point: &[f64], count: usize) -> Vec<usize> {
+        let mut near: Vec<(f64, usize)> = self
+            .entries
+            .iter()
+            .map(|e| (distance(&e.point, point), e.index))
+            .collect();
+        near.sort_by(|a, b| a.0.total_cmp(&b.0));
+        near.into_iter().take(count).map(|n| n.1).collect()
+    }
+
     /// The state of configuration `index`, in f64.
     pub fn state(&self, index: usize) -> Option<InterfaceState> {
         let e = self.entries.iter().find(|e| e.index == index)?;

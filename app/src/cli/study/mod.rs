@@ -61,10 +61,13 @@ pub struct StudyArgs {
     /// Solve every configuration warm and cold, reporting both iteration counts.
     #[arg(long)]
     pub compare_cold: bool,
-    /// Start of a warm configuration: the nearest solved one's state, or on a grid the
+    /// Start of a warm configuration: the nearest solved one's state; on a grid the
     /// parallelogram s_j + s_k − s_l of three solved neighbours (the change of one parameter step
-    /// on the neighbouring row carried over).
-    #[arg(long, value_enum, default_value_t = PredictorArg::Nearest)]
+    /// on the neighbouring row carried over); the projection (the affine combination of the 8
+    /// nearest states closest to the new configuration's contact and boundary laws, found by
+    /// local stages only); or auto (the projection on the whole interval with a dissipative
+    /// scheme, --rho-inf < 1, else the nearest; the report says which).
+    #[arg(long, value_enum, default_value_t = PredictorArg::Auto)]
     pub predictor: PredictorArg,
     /// Directory of study.csv and study.json (default out/study-SCENE).
     #[arg(long)]
@@ -93,6 +96,10 @@ pub enum PredictorArg {
     Nearest,
     /// Three solved neighbours closing a parallelogram (grids), else the nearest.
     Parallelogram,
+    /// The combination of the nearest states closest to the new configuration's laws.
+    Projection,
+    /// The projection on the whole interval with a dissipative scheme, else the nearest.
+    Auto,
 }
 
 /// `study.json`: what the study is (a resume must find the same) and, at the end, its totals.
@@ -111,6 +118,9 @@ pub struct Plan {
     pub mode: String,
     #[serde(default)]
     pub predictor: String,
+    /// Why that predictor (`--predictor auto`).
+    #[serde(default)]
+    pub predictor_reason: String,
     /// Visiting order (configuration indices) and its length in scaled parameter space, against
     /// the given order's.
     pub order: Vec<usize>,
@@ -144,6 +154,7 @@ struct Setup {
     settings: lopin_core::Settings,
     design: Design,
     chains: Chains,
+    predictor: Predictor,
     plan: Plan,
     dir: PathBuf,
 }
@@ -201,6 +212,13 @@ fn setup(args: &StudyArgs, ranks: usize) -> anyhow::Result<Setup> {
     }
     let path = Path::greedy(&design.points);
     let chains = Chains::split(&path, count);
+    let whole = settings.window.is_none_or(|w| w >= problem.time.steps);
+    let (predictor, predictor_reason) = match args.predictor {
+        PredictorArg::Nearest => (Predictor::Nearest, "--predictor nearest"),
+        PredictorArg::Parallelogram => (Predictor::Parallelogram, "--predictor parallelogram"),
+        PredictorArg::Projection => (Predictor::Projection, "--predictor projection"),
+        PredictorArg::Auto => Predictor::auto(whole, problem.scheme.rho_inf),
+    };
     let plan = Plan {
         scene: built.spec.name.clone(),
         fingerprint: crate::run_dir::fingerprint::of_run(&built.spec, &settings).to_string(),
@@ -222,11 +240,8 @@ fn setup(args: &StudyArgs, ranks: usize) -> anyhow::Result<Setup> {
             "warm"
         }
         .into(),
-        predictor: match args.predictor {
-            PredictorArg::Nearest => "nearest",
-            PredictorArg::Parallelogram => "parallelogram",
-        }
-        .into(),
+        predictor: predictor.name().into(),
+        predictor_reason: predictor_reason.into(),
         order: path.order.clone(),
         path_length: path.length,
         given_length: Path::given(&design.points).length,
@@ -240,6 +255,7 @@ fn setup(args: &StudyArgs, ranks: usize) -> anyhow::Result<Setup> {
         settings,
         design,
         chains,
+        predictor,
         plan,
         dir,
     })
@@ -254,6 +270,7 @@ pub fn study(args: &StudyArgs) -> anyhow::Result<ExitCode> {
         settings,
         design,
         chains,
+        predictor,
         plan,
         dir,
     } = crate::ranks::agree(setup(args, size))?;
@@ -285,7 +302,7 @@ pub fn study(args: &StudyArgs) -> anyhow::Result<ExitCode> {
     let my_chains = Chains(mine.iter().map(|&c| chains.0[c].clone()).collect());
     if !args.json && rank == 0 {
         eprintln!(
-            "study of {} configurations ({}), {} chain(s){}{}; path {:.3} against {:.3} in the given order",
+            "study of {} configurations ({}), {} chain(s){}{}; path {:.3} against {:.3} in the given order; start: {} ({})",
             design.points.len(),
             plan.design,
             plan.chains,
@@ -300,7 +317,9 @@ pub fn study(args: &StudyArgs) -> anyhow::Result<ExitCode> {
                 String::new()
             },
             plan.path_length,
-            plan.given_length
+            plan.given_length,
+            plan.predictor,
+            plan.predictor_reason
         );
     }
     let make = || Solver::new(problem.clone(), settings);
@@ -332,6 +351,9 @@ pub fn study(args: &StudyArgs) -> anyhow::Result<ExitCode> {
                 o.start
                     .map(|s| format!(" from {}", describe_point(&design, s)))
                     .unwrap_or_else(|| " (cold)".into())
+                    + &o.start_residual
+                        .map(|(a, b)| format!(", projected (start residual {a:.1e} → {b:.1e})"))
+                        .unwrap_or_default()
             );
         }
         Ok(())
@@ -339,10 +361,7 @@ pub fn study(args: &StudyArgs) -> anyhow::Result<ExitCode> {
     let options = RunOptions {
         cold: args.cold,
         compare_cold: args.compare_cold,
-        predictor: match args.predictor {
-            PredictorArg::Nearest => Predictor::Nearest,
-            PredictorArg::Parallelogram => Predictor::Parallelogram,
-        },
+        predictor,
     };
     let result = runner::run(&make, &design, &my_chains, options, &|i| done[i], &finished);
     let mut rows = rows.into_inner().unwrap_or_else(|p| p.into_inner());

@@ -35,6 +35,8 @@ fn header(labels: &[String]) -> Vec<String> {
             "start",
             "start_distance",
             "start_change",
+            "start_residual_nearest",
+            "start_residual",
             "iterations",
             "eta",
             "converged",
@@ -59,6 +61,8 @@ fn row(design: &Design, o: &Outcome) -> Vec<String> {
         opt(o.start.map(|s| s.to_string())),
         opt(o.start_distance.map(|d| d.to_string())),
         opt(o.start_change.map(|(k, l)| format!("{k}-{l}"))),
+        opt(o.start_residual.map(|r| r.0.to_string())),
+        opt(o.start_residual.map(|r| r.1.to_string())),
         o.iterations.to_string(),
         o.eta.to_string(),
         o.converged.to_string(),
@@ -79,7 +83,7 @@ fn parse(design: &Design, fields: &csv::StringRecord) -> Option<Outcome> {
         let s = get(k)?;
         Some((!s.is_empty()).then(|| s.to_string()))
     };
-    if fields.len() != 11 + d + Quantities::NAMES.len() {
+    if fields.len() != 13 + d + Quantities::NAMES.len() {
         return None;
     }
     let index = int(0)?;
@@ -91,7 +95,7 @@ fn parse(design: &Design, fields: &csv::StringRecord) -> Option<Outcome> {
     }
     let at = 3 + d;
     let q: Vec<f64> = (0..Quantities::NAMES.len())
-        .map(|k| num(at + 8 + k))
+        .map(|k| num(at + 10 + k))
         .collect::<Option<_>>()?;
     Some(Outcome {
         index,
@@ -112,11 +116,16 @@ fn parse(design: &Design, fields: &csv::StringRecord) -> Option<Outcome> {
             }
             None => None,
         },
-        iterations: int(at + 3)?,
-        eta: num(at + 4)?,
-        converged: get(at + 5)?.parse().ok()?,
-        wall_s: num(at + 6)?,
-        cold_iterations: match maybe(at + 7)? {
+        start_residual: match (maybe(at + 3)?, maybe(at + 4)?) {
+            (Some(a), Some(b)) => Some((a.parse().ok()?, b.parse().ok()?)),
+            (None, None) => None,
+            _ => return None,
+        },
+        iterations: int(at + 5)?,
+        eta: num(at + 6)?,
+        converged: get(at + 7)?.parse().ok()?,
+        wall_s: num(at + 8)?,
+        cold_iterations: match maybe(at + 9)? {
             Some(s) => Some(s.parse().ok()?),
             None => None,
         },

@@ -212,6 +212,7 @@ mod tests {
             position: index,
             start,
             start_change: None,
+            start_residual: None,
             start_distance: None,
             iterations: 1,
             eta: 0.0,
