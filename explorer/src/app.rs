@@ -226,8 +226,10 @@ impl ExplorerApp {
         self.cache.set_probe(sub, node, self.solve.worker());
     }
 
-    /// Receives worker events and brings caches up to date (called once per frame).
+    /// Releases the solve requested in the previous frame, receives worker events and brings
+    /// caches up to date (called once per frame).
     pub fn pump(&mut self) {
+        self.solve.release_held();
         self.solve.apply_events(
             &mut self.cache,
             &mut self.recording,
@@ -338,6 +340,8 @@ impl ExplorerApp {
         // after the panels, so a change made in them is drawn in this same frame: a new request
         // puts the nearest stored picture on screen at once
         if let Some(generation) = self.solve.resolve_if_changed() {
+            // the solve is released at the start of the next frame: ask for it
+            ui.ctx().request_repaint();
             let step = self.clock.step();
             self.study
                 .on_request(generation, self.solve.requested(), step, &mut self.cache);

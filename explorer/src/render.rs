@@ -1,6 +1,8 @@
 //! GPU drawing of the 3D view through an egui paint callback (wgpu): the mesh is drawn into an
 //! offscreen colour + depth target with 4× MSAA, resolved, then copied into egui's render pass
-//! (which has no depth buffer). Vertex data is uploaded only when the mesh version changes;
+//! (which has no depth buffer). On a software rasterizer (a CPU adapter: lavapipe under Xvfb, a
+//! machine without a GPU) the target has one sample: MSAA multiplies its fill work by four, and
+//! there the frame that shows a new picture is what a slider move waits for. Vertex data is uploaded only when the mesh version changes;
 //! a camera move only rewrites the 96-byte uniform block. Each viewport of a frame (one, or two
 //! side by side) has its own slot: targets, vertex buffer and uniforms, since egui-wgpu
 //! prepares every callback of a frame before it paints any.
@@ -10,6 +12,7 @@ use bytemuck::{Pod, Zeroable};
 use eframe::egui_wgpu::{self, wgpu};
 use std::sync::Arc;
 
+/// Samples of the 3D target on a GPU.
 const SAMPLES: u32 = 4;
 const COLOR: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 const DEPTH: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
@@ -44,7 +47,8 @@ pub struct SceneCallback {
 
 struct Targets {
     size: [u32; 2],
-    msaa: wgpu::TextureView,
+    /// The multisampled colour target (None with one sample: drawn into `resolved` directly).
+    msaa: Option<wgpu::TextureView>,
     resolved: wgpu::TextureView,
     depth: wgpu::TextureView,
     blit_group: wgpu::BindGroup,
@@ -71,12 +75,24 @@ pub struct Resources {
     blit_layout: wgpu::BindGroupLayout,
     uniform_layout: wgpu::BindGroupLayout,
     sampler: wgpu::Sampler,
+    /// Samples per pixel of the 3D target ([`samples_for`]).
+    samples: u32,
     slots: Vec<Slot>,
+}
+
+/// Samples per pixel of the 3D target on an adapter of this type: 4 on a GPU, 1 on a CPU
+/// (software rasterization).
+pub fn samples_for(device_type: wgpu::DeviceType) -> u32 {
+    match device_type {
+        wgpu::DeviceType::Cpu => 1,
+        _ => SAMPLES,
+    }
 }
 
 /// Creates the pipelines once, for egui's target format, and stores them.
 pub fn install(rs: &egui_wgpu::RenderState) {
     let device = &rs.device;
+    let samples = samples_for(rs.adapter.get_info().device_type);
     let mesh_shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some("lopin mesh"),
         source: wgpu::ShaderSource::Wgsl(include_str!("mesh.wgsl").into()),
@@ -158,7 +174,7 @@ pub fn install(rs: &egui_wgpu::RenderState) {
             bias: Default::default(),
         }),
         multisample: wgpu::MultisampleState {
-            count: SAMPLES,
+            count: samples,
             ..Default::default()
         },
         fragment: Some(wgpu::FragmentState {
@@ -216,6 +232,7 @@ pub fn install(rs: &egui_wgpu::RenderState) {
         blit_layout,
         uniform_layout,
         sampler,
+        samples,
         slots: Vec::new(),
     });
 }
@@ -253,6 +270,7 @@ impl Slot {
         size: [u32; 2],
         blit_layout: &wgpu::BindGroupLayout,
         sampler: &wgpu::Sampler,
+        samples: u32,
     ) {
         if self.targets.as_ref().is_some_and(|t| t.size == size) {
             return;
@@ -277,14 +295,14 @@ impl Slot {
                 .create_view(&wgpu::TextureViewDescriptor::default())
         };
         let attach = wgpu::TextureUsages::RENDER_ATTACHMENT;
-        let msaa = texture("lopin msaa", COLOR, SAMPLES, attach);
+        let msaa = (samples > 1).then(|| texture("lopin msaa", COLOR, samples, attach));
         let resolved = texture(
             "lopin picture",
             COLOR,
             1,
             attach | wgpu::TextureUsages::TEXTURE_BINDING,
         );
-        let depth = texture("lopin depth", DEPTH, SAMPLES, attach);
+        let depth = texture("lopin depth", DEPTH, samples, attach);
         let blit_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("lopin blit"),
             layout: blit_layout,
@@ -349,7 +367,7 @@ impl egui_wgpu::CallbackTrait for SceneCallback {
         }
         let size = [self.size_px[0].max(1), self.size_px[1].max(1)];
         let r = &mut res.slots[self.slot];
-        r.ensure_targets(device, size, &res.blit_layout, &res.sampler);
+        r.ensure_targets(device, size, &res.blit_layout, &res.sampler, res.samples);
         let frame = (self.version, self.uniforms, size);
         if r.drawn == Some(frame) {
             return Vec::new();
@@ -367,9 +385,9 @@ impl egui_wgpu::CallbackTrait for SceneCallback {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("lopin 3d"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &t.msaa,
+                view: t.msaa.as_ref().unwrap_or(&t.resolved),
                 depth_slice: None,
-                resolve_target: Some(&t.resolved),
+                resolve_target: t.msaa.as_ref().map(|_| &t.resolved),
                 ops: wgpu::Operations {
                     load: wgpu::LoadOp::Clear(wgpu::Color {
                         r: br,
@@ -377,7 +395,13 @@ impl egui_wgpu::CallbackTrait for SceneCallback {
                         b: bb,
                         a: 1.0,
                     }),
-                    store: wgpu::StoreOp::Discard,
+                    // the multisampled target is resolved and dropped; a single-sampled one is
+                    // the picture
+                    store: if t.msaa.is_some() {
+                        wgpu::StoreOp::Discard
+                    } else {
+                        wgpu::StoreOp::Store
+                    },
                 },
             })],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {

@@ -82,6 +82,8 @@ pub(crate) struct Service {
     control: StudyControl,
     /// When the newest solve request arrived.
     last_change: Instant,
+    /// The user's solve that waits for its release ([`Request::Release`]) before it begins.
+    held: Option<(u64, Params)>,
 }
 
 impl Service {
@@ -111,6 +113,7 @@ impl Service {
                 library: Library::default(),
                 control: StudyControl::default(),
                 last_change: Instant::now(),
+                held: None,
             }),
             Err(e) => {
                 let _ = events.send(Event::Error(format!("{e}")));
@@ -125,13 +128,19 @@ impl Service {
         (self.wake)();
     }
 
-    /// Whether a solve is under way (the user's or the background study's).
+    /// Whether a solve is under way (the user's or the background study's) or waits for its
+    /// release.
     pub(crate) fn solving(&self) -> bool {
-        self.running.is_some()
+        self.running.is_some() || self.held.is_some()
+    }
+
+    /// Whether the running solve is the background study's.
+    pub(crate) fn in_background(&self) -> bool {
+        matches!(&self.running, Some(r) if r.origin == Origin::Background)
     }
 
     /// Does one unit of work: applies study controls, starts the newest requested solve
-    /// (cancelling a running one), or serves the oldest other request first if only the
+    /// (cancelling a running one; a held one begins when its release comes), or serves the oldest other request first if only the
     /// background study is solving, or runs one iteration of the running solve, or serves the
     /// oldest other request (field and probe requests wait while the user's solve runs), or,
     /// with nothing else to do, one unit of the background study. Returns whether work remains.
@@ -155,10 +164,38 @@ impl Service {
                 r.run.cancel();
                 self.conclude(r);
             }
-            if let Request::Solve { generation, params } = c {
-                self.begin(generation, params);
+            if let Request::Solve {
+                generation,
+                params,
+                held,
+            } = c
+            {
+                // its release may be queued already (the UI's next frame came first)
+                let released = queue
+                    .iter()
+                    .any(|q| matches!(q, Request::Release { generation: g } if *g == generation));
+                queue.retain(|q| !matches!(q, Request::Release { .. }));
+                if held && !released {
+                    // begun on its release: the frame drawing its first picture keeps the cores
+                    self.held = Some((generation, params));
+                } else {
+                    self.held = None;
+                    self.begin(generation, params);
+                }
             }
             return true;
+        }
+        while let Some(i) = queue
+            .iter()
+            .position(|c| matches!(c, Request::Release { .. }))
+        {
+            if let Request::Release { generation } = queue.remove(i) {
+                if self.held.as_ref().is_some_and(|h| h.0 == generation) {
+                    if let Some((generation, params)) = self.held.take() {
+                        self.begin(generation, params);
+                    }
+                }
+            }
         }
         // requests are served before the background study's next iteration
         let background = matches!(&self.running, Some(r) if r.origin == Origin::Background);
@@ -186,7 +223,7 @@ impl Service {
             }
             Request::Probe { sub, node } => self.serve_probe(sub, node),
             Request::Record => self.record(),
-            Request::Solve { .. } | Request::Study(_) => {}
+            Request::Solve { .. } | Request::Study(_) | Request::Release { .. } => {}
         }
         true
     }
@@ -211,7 +248,7 @@ impl Service {
     /// The friction value the background study orders its work around (the user's newest),
     /// when it may run: not paused, the user's solve converged and in the library.
     fn study_value(&self) -> Option<f64> {
-        if self.control.paused || self.running.is_some() {
+        if self.control.paused || self.running.is_some() || self.held.is_some() {
             return None;
         }
         let c = self.current.as_ref()?;

@@ -54,6 +54,8 @@ pub struct SolveView {
     change_time: Option<Instant>,
     /// Seconds from the newest parameter change to its converged solve.
     last_latency: Option<f64>,
+    /// The held solve to release at the start of the next frame ([`SolveView::release_held`]).
+    to_release: Option<u64>,
 }
 
 impl SolveView {
@@ -71,6 +73,15 @@ impl SolveView {
             error: None,
             change_time: Some(Instant::now()),
             last_latency: None,
+            to_release: None,
+        }
+    }
+
+    /// Lets the solve requested in the previous frame iterate: that frame, which shows the new
+    /// value's first picture, has been drawn (called at the start of every frame).
+    pub fn release_held(&mut self) {
+        if let Some(generation) = self.to_release.take() {
+            self.worker.release(generation);
         }
     }
 
@@ -171,7 +182,9 @@ impl SolveView {
         let what = self.params.describe_change(&self.requested);
         self.markers.push((self.convergence.len() as f64, what));
         self.requested = self.params.clone();
-        self.worker.solve(self.params.clone());
+        // held until the next frame: this frame draws the new value's first picture
+        let generation = self.worker.solve_held(self.params.clone());
+        self.to_release = Some(generation);
         self.change_time = Some(Instant::now());
         self.last_latency = None;
         self.error = None;

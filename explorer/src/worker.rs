@@ -120,10 +120,26 @@ impl Worker {
     /// Asks for a (warm) re-solve with these parameters; cancels a running one. Returns its
     /// generation.
     pub fn solve(&mut self, params: Params) -> u64 {
+        self.request_solve(params, false)
+    }
+
+    /// [`Worker::solve`], held: set up at once, iterating only after [`Worker::release`] (the UI
+    /// releases it once the frame with the new value's first picture is on screen).
+    pub fn solve_held(&mut self, params: Params) -> u64 {
+        self.request_solve(params, true)
+    }
+
+    /// Lets the held solve of `generation` iterate (nothing if it is not the held one).
+    pub fn release(&mut self, generation: u64) {
+        self.send(Request::Release { generation });
+    }
+
+    fn request_solve(&mut self, params: Params, held: bool) -> u64 {
         self.generation += 1;
         self.send(Request::Solve {
             generation: self.generation,
             params,
+            held,
         });
         self.generation
     }
@@ -307,6 +323,16 @@ fn serve(service: &mut Service, commands: &Receiver<Request>) {
                 Err(TryRecvError::Disconnected) => return,
             }
         }
+        let started = std::time::Instant::now();
         busy = service.tick(&mut queue);
+        if service.in_background() {
+            // the background study gives back as much time as its iteration took, so that the
+            // drawing of frames keeps the cores half the time; a request ends the pause at once
+            match commands.recv_timeout(started.elapsed()) {
+                Ok(c) => queue.push(c),
+                Err(RecvTimeoutError::Timeout) => {}
+                Err(RecvTimeoutError::Disconnected) => return,
+            }
+        }
     }
 }

@@ -244,3 +244,44 @@ fn the_scheme_and_direction_controls_reach_the_solver() {
         "{r:?}"
     );
 }
+
+#[test]
+fn a_held_solve_waits_for_its_release() {
+    held_solve_waits(threaded);
+}
+
+#[test]
+fn inline_a_held_solve_waits_for_its_release() {
+    held_solve_waits(inline);
+}
+
+/// A slider move's solve is held while the frame with the stand-in picture is drawn: nothing
+/// of it (no iteration, no report) comes before its release, and after it the solve converges
+/// warm; a release of an older generation releases nothing.
+fn held_solve_waits(spawn: Spawn) {
+    let (problem, settings) = two_blocks();
+    let mut worker = spawn(problem.clone(), settings);
+    let mut params = Params::of(&problem, &settings);
+    let g0 = worker.solve(params.clone());
+    let r0 = finish(&mut worker, g0, &mut Vec::new());
+    params.friction = Some(0.15);
+    let g1 = worker.solve_held(params.clone());
+    worker.release(g0);
+    // the solve of 0.15 would take a few tens of ms: 0.5 s of silence shows it is held
+    let deadline = std::time::Instant::now() + Duration::from_millis(500);
+    while let Some(left) = deadline.checked_duration_since(std::time::Instant::now()) {
+        match worker.wait(left.min(Duration::from_millis(50))) {
+            Some(Event::Progress { generation, .. }) if generation == g1 => {
+                panic!("the held solve iterated before its release")
+            }
+            Some(Event::Finished(r)) if r.generation == g1 => {
+                panic!("the held solve finished before its release: {r:?}")
+            }
+            _ => {}
+        }
+    }
+    worker.release(g1);
+    let r1 = finish(&mut worker, g1, &mut Vec::new());
+    assert!(r1.converged && r1.warm && r1.iterations > 0, "{r1:?}");
+    assert!(r0.converged && r1.eta < params.tol, "{r1:?}");
+}
