@@ -134,7 +134,9 @@ impl Service {
         self.running.is_some() || self.held.is_some()
     }
 
-    /// Whether the running solve is the background study's.
+    /// Whether the running solve is the background study's (the solver thread pauses after
+    /// each of its iterations).
+    #[cfg(not(target_arch = "wasm32"))]
     pub(crate) fn in_background(&self) -> bool {
         matches!(&self.running, Some(r) if r.origin == Origin::Background)
     }
