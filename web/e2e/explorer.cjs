@@ -55,6 +55,24 @@ function control(st, name) {
   return r;
 }
 
+// Clicks a control where the page says it is now, until `predicate` holds (at most 5 clicks):
+// the left panel's layout moves while the background study works (a line appears or goes), so
+// a position read before the click may be stale by the time it lands. `at(box)` gives the point
+// to click in the control's box.
+async function clickUntil(page, name, at, predicate, what) {
+  for (let attempt = 0; attempt < 5; attempt++) {
+    const [x, y] = at(control(await status(page), name));
+    await page.mouse.click(x, y);
+    try {
+      await page.waitForFunction(predicate, null, { timeout: 3000, polling: 20 });
+      return status(page);
+    } catch (e) {
+      // stale position (or a slow frame): read it again and retry
+    }
+  }
+  return waitFor(page, predicate, null, what);
+}
+
 async function waitFor(page, predicate, arg, what) {
   try {
     await page.waitForFunction(predicate, arg, { timeout: 30000, polling: 20 });
@@ -235,12 +253,11 @@ async function main() {
     const after = await checkDrawn(page, path.join(outDir, "web-after.png"), view);
 
     // section on: the cut changes the picture
-    const box = control(last, "section");
-    await page.mouse.click(box[0] + box[2] / 2, box[1] + box[3] / 2);
-    last = await waitFor(
+    last = await clickUntil(
       page,
+      "section",
+      (box) => [box[0] + box[2] / 2, box[1] + box[3] / 2],
       () => document.getElementById("lopin-status").dataset.section === "true",
-      null,
       "switching the section on"
     );
     await page.waitForTimeout(300);
@@ -273,20 +290,18 @@ async function main() {
 
     // pin A (the current value), then side by side: A's viewport on the left, the current one
     // on the right, both drawn (A from its stored picture, made at this step at once)
-    const pin = control(last, "pin A");
-    await page.mouse.click(pin[0] + pin[2] / 2, pin[1] + pin[3] / 2);
-    last = await waitFor(
+    last = await clickUntil(
       page,
+      "pin A",
+      (box) => [box[0] + box[2] / 2, box[1] + box[3] / 2],
       () => document.getElementById("lopin-status").dataset.pinned !== "",
-      null,
       "pinning A"
     );
-    const beside = control(last, "side by side");
-    await page.mouse.click(beside[0] + 8, beside[1] + beside[3] / 2);
-    last = await waitFor(
+    last = await clickUntil(
       page,
+      "side by side",
+      (box) => [box[0] + 8, box[1] + box[3] / 2],
       () => document.getElementById("lopin-status").dataset.besideDrawn === "true",
-      null,
       "showing A side by side"
     );
     await page.waitForTimeout(300);
