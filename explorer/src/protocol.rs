@@ -18,16 +18,16 @@ use std::sync::Arc;
 /// A request from the UI.
 #[derive(Debug, Clone)]
 pub(crate) enum Request {
-    /// Solve (warm) with these parameters; cancels a running solve. A held solve is set up at
-    /// once but iterates only after [`Request::Release`] of its generation: the UI releases it
-    /// once the frame showing the stand-in picture is on screen, so that the solver does not
-    /// share the cores with the drawing of that frame.
+    /// Solve (warm) with these parameters; cancels a running solve. A held solve begins only
+    /// on [`Request::Release`] of its generation: the UI releases it when the next frame
+    /// starts, so that the solver does not share the cores with the drawing of the frame that
+    /// shows the stand-in picture.
     Solve {
         generation: u64,
         params: Params,
         held: bool,
     },
-    /// Lets a held solve iterate.
+    /// Lets a held solve begin.
     Release { generation: u64 },
     /// Fields of the newest solution at this step.
     Fields { step: usize },

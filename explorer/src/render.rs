@@ -2,10 +2,10 @@
 //! offscreen colour + depth target with 4× MSAA, resolved, then copied into egui's render pass
 //! (which has no depth buffer). On a software rasterizer (a CPU adapter: lavapipe under Xvfb, a
 //! machine without a GPU) the target has one sample: MSAA multiplies its fill work by four, and
-//! there the frame that shows a new picture is what a slider move waits for. Vertex data is uploaded only when the mesh version changes;
-//! a camera move only rewrites the 96-byte uniform block. Each viewport of a frame (one, or two
-//! side by side) has its own slot: targets, vertex buffer and uniforms, since egui-wgpu
-//! prepares every callback of a frame before it paints any.
+//! there the frame that shows a new picture is what a slider move waits for. Vertex data is
+//! uploaded only when the mesh version changes; a camera move only rewrites the 96-byte uniform
+//! block. Each viewport of a frame (one, or two side by side) has its own slot: targets, vertex
+//! buffer and uniforms, since egui-wgpu prepares every callback of a frame before it paints any.
 
 use crate::mesh_build::{MeshData, Vertex};
 use bytemuck::{Pod, Zeroable};

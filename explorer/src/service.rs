@@ -142,7 +142,8 @@ impl Service {
     }
 
     /// Does one unit of work: applies study controls, starts the newest requested solve
-    /// (cancelling a running one; a held one begins when its release comes), or serves the oldest other request first if only the
+    /// (cancelling a running one; a held one begins when its release comes), or serves the
+    /// oldest other request first if only the
     /// background study is solving, or runs one iteration of the running solve, or serves the
     /// oldest other request (field and probe requests wait while the user's solve runs), or,
     /// with nothing else to do, one unit of the background study. Returns whether work remains.
@@ -155,10 +156,10 @@ impl Service {
                 }
             }
         }
-        if let Some(i) = queue
+        let solve = queue
             .iter()
-            .rposition(|c| matches!(c, Request::Solve { .. }))
-        {
+            .rposition(|c| matches!(c, Request::Solve { .. }));
+        if let Some(i) = solve {
             let c = queue.remove(i);
             queue.retain(|c| !matches!(c, Request::Solve { .. }));
             self.last_change = Instant::now();
@@ -166,38 +167,38 @@ impl Service {
                 r.run.cancel();
                 self.conclude(r);
             }
+            self.held = None;
             if let Request::Solve {
                 generation,
                 params,
                 held,
             } = c
             {
-                // its release may be queued already (the UI's next frame came first)
-                let released = queue
-                    .iter()
-                    .any(|q| matches!(q, Request::Release { generation: g } if *g == generation));
-                queue.retain(|q| !matches!(q, Request::Release { .. }));
-                if held && !released {
+                if held {
                     // begun on its release: the frame drawing its first picture keeps the cores
                     self.held = Some((generation, params));
                 } else {
-                    self.held = None;
                     self.begin(generation, params);
                 }
             }
-            return true;
         }
+        // (a release may come in the same batch as its request: the UI's next frame came first)
         while let Some(i) = queue
             .iter()
             .position(|c| matches!(c, Request::Release { .. }))
         {
             if let Request::Release { generation } = queue.remove(i) {
-                if self.held.as_ref().is_some_and(|h| h.0 == generation) {
-                    if let Some((generation, params)) = self.held.take() {
-                        self.begin(generation, params);
+                if let Some((g, params)) = self.held.take() {
+                    if g == generation {
+                        self.begin(g, params);
+                    } else {
+                        self.held = Some((g, params));
                     }
                 }
             }
+        }
+        if solve.is_some() {
+            return true;
         }
         // requests are served before the background study's next iteration
         let background = matches!(&self.running, Some(r) if r.origin == Origin::Background);

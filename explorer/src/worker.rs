@@ -123,13 +123,14 @@ impl Worker {
         self.request_solve(params, false)
     }
 
-    /// [`Worker::solve`], held: set up at once, iterating only after [`Worker::release`] (the UI
-    /// releases it once the frame with the new value's first picture is on screen).
+    /// [`Worker::solve`], held: the running solve is cancelled at once, the new one begins only
+    /// after [`Worker::release`] (the UI releases it when the next frame starts, the one with
+    /// the new value's first picture being drawn).
     pub fn solve_held(&mut self, params: Params) -> u64 {
         self.request_solve(params, true)
     }
 
-    /// Lets the held solve of `generation` iterate (nothing if it is not the held one).
+    /// Lets the held solve of `generation` begin (nothing if it is not the held one).
     pub fn release(&mut self, generation: u64) {
         self.send(Request::Release { generation });
     }

@@ -70,9 +70,6 @@ pub enum Predictor {
 }
 
 impl Predictor {
-    /// Every predictor, in the order the help lists them.
-    pub const ALL: [Self; 3] = [Self::Nearest, Self::Parallelogram, Self::Projection];
-
     /// Name.
     pub fn name(&self) -> &'static str {
         match self {

@@ -69,13 +69,22 @@ impl StateStore {
 
     /// The `count` stored configurations nearest `point`, nearest first.
     pub fn nearest_k(&self, point: &[f64], count: usize) -> Vec<usize> {
-        let mut near: Vec<(f64, usize)> = self
+        self.closest(point, count)
+            .into_iter()
+            .map(|(_, e)| e.index)
+            .collect()
+    }
+
+    /// The `count` stored entries nearest `point` with their distances, nearest first.
+    fn closest(&self, point: &[f64], count: usize) -> Vec<(f64, &Compact)> {
+        let mut close: Vec<(f64, &Compact)> = self
             .entries
             .iter()
-            .map(|e| (distance(&e.point, point), e.index))
+            .map(|e| (distance(&e.point, point), e))
             .collect();
-        near.sort_by(|a, b| a.0.total_cmp(&b.0));
-        near.into_iter().take(count).map(|n| n.1).collect()
+        close.sort_by(|a, b| a.0.total_cmp(&b.0));
+        close.truncate(count);
+        close
     }
 
     /// The state of configuration `index`, in f64.
@@ -114,13 +123,7 @@ impl StateStore {
     /// moving from l to k made, carried over to j. Searched among the `near` stored
     /// configurations nearest `point`; the one with the shortest sides wins. Returns (j, k, l).
     pub fn parallelogram(&self, point: &[f64], near: usize) -> Option<(usize, usize, usize)> {
-        let mut close: Vec<(f64, &Compact)> = self
-            .entries
-            .iter()
-            .map(|e| (distance(&e.point, point), e))
-            .collect();
-        close.sort_by(|a, b| a.0.total_cmp(&b.0));
-        close.truncate(near);
+        let close = self.closest(point, near);
         let mut best: Option<(f64, (usize, usize, usize))> = None;
         for &(dj, j) in &close {
             for &(dk, k) in &close {
