@@ -54,11 +54,23 @@ fn run_windows(
         ),
     ])
     .expect("grid");
+    solve_design(&problem, settings, &design, chains, cold, predictor)
+}
+
+/// Every configuration of `design` along the greedy path cut into `chains`, rows in index order.
+fn solve_design(
+    problem: &lopin_core::Problem,
+    settings: Settings,
+    design: &Design,
+    chains: usize,
+    cold: bool,
+    predictor: Predictor,
+) -> Vec<Outcome> {
     let path = Path::greedy(&design.points);
     let out = Mutex::new(Vec::new());
     runner::run(
         &|| Solver::new(problem.clone(), settings),
-        &design,
+        design,
         &Chains::split(&path, chains),
         RunOptions {
             cold,
@@ -102,27 +114,7 @@ fn run_sampled(samples: usize, cold: bool, predictor: Predictor) -> Vec<Outcome>
         1,
     )
     .expect("samples");
-    let path = Path::greedy(&design.points);
-    let out = Mutex::new(Vec::new());
-    runner::run(
-        &|| Solver::new(problem.clone(), settings),
-        &design,
-        &Chains::split(&path, 1),
-        RunOptions {
-            cold,
-            compare_cold: false,
-            predictor,
-        },
-        &|_| false,
-        &|o| {
-            out.lock().expect("lock").push(o);
-            Ok(())
-        },
-    )
-    .expect("study");
-    let mut out = out.into_inner().expect("lock");
-    out.sort_by_key(|o| o.index);
-    out
+    solve_design(&problem, settings, &design, 1, cold, predictor)
 }
 
 /// The quantities of interest of two studies of the same design agree configuration by
