@@ -324,10 +324,11 @@ pub fn histograms(path: &FsPath, outcomes: &[Outcome], stats: &[Statistics]) -> 
                 ))
                 .map_err(err)?;
         }
+        // the lines stop below the statistics' text (the bars reach 1/1.35 of the top)
         for (x, colour) in [(s.mean, RED), (s.p5, BLACK), (s.p95, BLACK)] {
             chart
                 .draw_series(LineSeries::new(
-                    [(x, 0.0), (x, top)],
+                    [(x, 0.0), (x, 0.85 * top)],
                     colour.stroke_width(2),
                 ))
                 .map_err(err)?;
