@@ -25,9 +25,12 @@ pub use crate::stop_test::StopTest;
 
 /// The η̄ sums of steps m0..=m1: the terms of η on the step averages
 /// ((x_m + x_{m−1})/2) of the linear-stage output `s_new` (per substructure trace) and ŝ (per
-/// interface side), with each interface's areas and direction factors k·k_scale. Step m0 − 1
-/// (the initial state, or the last step of the previous window) is read from the same
-/// histories. One sum per interface side, computed in parallel on the rank holding the side's
+/// interface side), with each interface's areas and direction factors k·k_scale. On the whole
+/// interval (m0 = 1) step 0 is the initial state, the same in both. After a finished window
+/// (m0 > 1) step m0 − 1 is fixed with what residual its window converged to, which no iteration
+/// of this window can reduce: averaged in, it would hold η̄ near the tolerance for ever (a
+/// one-step window stopped on η̄ never converged), so step m0 is measured on its own fields, as
+/// η measures it, and a one-step window's η̄ is its η. One sum per interface side, computed in parallel on the rank holding the side's
 /// substructure and added in (interface, side) order ([`Distribution::gathered_sums`]).
 pub fn smooth_sums(
     interfaces: &[Interface],
@@ -55,6 +58,12 @@ pub fn smooth_sums(
         for m in m0.max(1)..=m1 {
             let (now, prev) = (t.at(m).start + side.offset, t.at(m - 1).start + side.offset);
             let (hn, hp) = (hat.at(m).start, hat.at(m - 1).start);
+            // a window's first step after a finished window: its own fields (doc above)
+            let (prev, hp) = if m == m0 && m0 > 1 {
+                (now, hn)
+            } else {
+                (prev, hp)
+            };
             for j in 0..iface.len {
                 let avg = |x: &[f64], a: usize, b: usize| 0.5 * (x[a + j] + x[b + j]);
                 sums.add_dof(
@@ -218,10 +227,14 @@ mod tests {
             s_new.subs[0].w[m] = ramp + mode;
             s_new.subs[0].f[m] = 3.0 * ramp - 3.0 * mode;
         }
-        // steps 2..=6: every average of the mode vanishes, so η̄ = 0 exactly while η does not
+        // steps 2..=6: every average of the mode vanishes, so η̄ sees only step 1, whose average
+        // with the initial state keeps half the mode (W̄ 0.375 against 0.5, F̄ 1.875 against
+        // 1.5), while η sees every step
         let one = Distribution::single_for(1, &ifaces);
-        let sm = smooth_sums(&ifaces, 3.0, &s_new, &hats, (2, steps), &one);
-        assert_eq!(sm.num, 0.0);
+        let sm = smooth_sums(&ifaces, 3.0, &s_new, &hats, (1, steps), &one);
+        let mut first = IndicatorSums::default();
+        first.add_dof(2.0, 3.0, (1.875, 0.375), (1.5, 0.5));
+        assert!((sm.num - first.num).abs() <= 1e-14 * first.num, "{sm:?}");
         assert!(sm.den > 0.0);
         let mut plain = IndicatorSums::default();
         for m in 2..=steps {
@@ -249,6 +262,41 @@ mod tests {
         assert!((sm.den - expected.den).abs() <= 1e-12 * expected.den);
         // (W − Ŵ)² k + (F − F̂)²/k over ½ (…): for x = 2y, η² = 1 / (½ (1 + 4)/1) → η = √(2/5)
         assert!((sm.eta() - (0.4f64).sqrt()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn after_a_finished_window_the_first_step_is_measured_on_its_own_fields() {
+        // step 2 was left by its window with a residual (s_new ≠ ŝ there); step 3 is exact
+        let steps = 4;
+        let (ifaces, mut s_new, mut hats) = one_dof(steps);
+        for m in 0..=steps {
+            hats[0][0].w[m] = 1.0 + m as f64;
+            hats[0][0].f[m] = 2.0 * m as f64;
+            s_new.subs[0].w[m] = hats[0][0].w[m];
+            s_new.subs[0].f[m] = hats[0][0].f[m];
+        }
+        s_new.subs[0].w[2] += 0.1;
+        let one = Distribution::single_for(1, &ifaces);
+        // the one-step window [3, 3] and the window [3, 4] see no residual: step 2's is not theirs
+        assert_eq!(
+            smooth_sums(&ifaces, 1.0, &s_new, &hats, (3, 3), &one).num,
+            0.0
+        );
+        assert_eq!(
+            smooth_sums(&ifaces, 1.0, &s_new, &hats, (3, 4), &one).num,
+            0.0
+        );
+        // and a one-step window's η̄ is its η: a residual at step 3 counts in full, not halved
+        s_new.subs[0].w[3] += 0.2;
+        let sm = smooth_sums(&ifaces, 1.0, &s_new, &hats, (3, 3), &one);
+        let mut plain = IndicatorSums::default();
+        plain.add_dof(2.0, 1.0, (6.0, 4.2), (6.0, 4.0));
+        assert!((sm.num - plain.num).abs() <= 1e-14 * plain.num);
+        assert!((sm.den - plain.den).abs() <= 1e-14 * plain.den);
+        // within a window, and on the whole interval from the initial state, steps are averaged:
+        // step 2's residual enters [2, 3] through steps 2 and 3
+        let both = smooth_sums(&ifaces, 1.0, &s_new, &hats, (1, 3), &one);
+        assert!(both.num > 0.0);
     }
 
     #[test]
