@@ -15,7 +15,9 @@
 //! x̄_m = (x_m + x_{m−1})/2 of s_new and ŝ. The averages are what moves the displacements
 //! (u_m − u_{m−1} = Δt W̄_m for the trapezoidal rule, METHOD §2) and what the reported contact
 //! forces are (METHOD §5, step-averaged normal force); the alternating mode of the undamped rule,
-//! x_m = (−1)^m c, has x̄ = 0 and so leaves η̄ untouched while it keeps η up (METHOD §10).
+//! x_m = (−1)^m c, has x̄ = 0 and so leaves η̄ untouched while it keeps η up (METHOD §10). On
+//! time windows, the first step of a window after a finished one is measured on its own fields
+//! (the step before it is fixed), so a one-step window's η̄ is its η.
 //! [`StopTest`] says which of the two the stopping test reads.
 
 use crate::distribution::Distribution;
