@@ -1,7 +1,7 @@
 //! `lopin study` from the command line (issue 20): a study killed with SIGKILL after a few
 //! configurations and resumed keeps every finished row byte for byte, solves the rest, and ends
 //! with the same configurations and quantities (to the tolerance's reach: a resumed chain restarts
-//! cold) as an uninterrupted study, with its figures; the rows a killed distributed study left
+//! cold) as an uninterrupted study, with its figures and `study.parquet` (the CSV's rows, typed); the rows a killed distributed study left
 //! in a rank's folder are taken in by the resume; bad input is refused with a message naming
 //! the option and the reason, before anything is written.
 
@@ -69,6 +69,42 @@ fn column(line: &str, header: &str, name: &str) -> f64 {
         .expect("test value")
         .parse()
         .expect("number")
+}
+
+/// study.parquet holds the rows of study.csv, column by column: the same names and order, the
+/// same numbers (the CSV's text round-trips each f64 exactly), nulls where the CSV is empty.
+fn parquet_matches_csv(dir: &Path) {
+    use parquet::file::reader::{FileReader, SerializedFileReader};
+    use parquet::record::Field;
+    let text = std::fs::read_to_string(dir.join("study.csv")).expect("study.csv");
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().expect("header").split(',').collect();
+    let mut csv: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    csv.sort_by_key(|r| r[0].parse::<usize>().expect("index"));
+    let file = std::fs::File::open(dir.join("study.parquet")).expect("study.parquet");
+    let reader = SerializedFileReader::new(file).expect("a Parquet file");
+    let table: Vec<parquet::record::Row> = reader
+        .get_row_iter(None)
+        .expect("rows")
+        .map(|r| r.expect("row"))
+        .collect();
+    assert_eq!(table.len(), csv.len());
+    for (row, line) in table.iter().zip(&csv) {
+        let cells: Vec<(&String, &Field)> = row.get_column_iter().collect();
+        assert_eq!(cells.len(), header.len());
+        for ((name, field), (h, text)) in cells.iter().zip(header.iter().zip(line)) {
+            assert_eq!(name.as_str(), *h);
+            let same = match field {
+                Field::Null => text.is_empty(),
+                Field::Long(x) => text.parse::<i64>() == Ok(*x),
+                Field::Double(x) => text.parse::<f64>() == Ok(*x),
+                Field::Bool(x) => text.parse::<bool>() == Ok(*x),
+                Field::Str(x) => x == text,
+                other => panic!("{h}: unexpected Parquet value {other:?}"),
+            };
+            assert!(same, "{h}: Parquet {field:?} against CSV `{text}`");
+        }
+    }
 }
 
 #[test]
@@ -154,6 +190,8 @@ fn a_killed_study_resumes_without_losing_a_row() {
     succeeds(lopin().args(ARGS).args(["--resume", "--out"]).arg(&part));
     let after = rows(&part);
     assert_eq!(after.len(), 8);
+    // the typed table of every row, kept and resumed alike
+    parquet_matches_csv(&part);
     for row in &kept {
         assert!(after.contains(row), "row lost or changed: {row:?}");
     }
@@ -193,6 +231,7 @@ fn a_killed_study_resumes_without_losing_a_row() {
             .arg(&split),
     );
     assert_eq!(rows(&split), rows(&full));
+    parquet_matches_csv(&split);
     assert!(!side.exists(), "rank-1/ is left");
     let taken: serde_json::Value = serde_json::from_slice(&taken.stdout).expect("json");
     assert_eq!(taken["totals"]["iterations"], json["totals"]["iterations"]);

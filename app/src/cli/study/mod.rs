@@ -4,7 +4,8 @@
 //! nearest-neighbour path cut into `--chains` chains that run at once, each configuration
 //! warm-started from the nearest one its chain solved. Every finished configuration is one row of
 //! `study.csv` at once ([`rows`]); `--resume` keeps every row and solves the rest;
-//! `study.json` holds the plan (parameters, design, order) and the totals.
+//! `study.json` holds the plan (parameters, design, order) and the totals; at the end the rows
+//! are also written typed to `study.parquet` ([`parquet_rows`]).
 //!
 //! Under `mpirun -np P` ([`crate::ranks`]) the chains are dealt to the ranks (chain c on rank
 //! c mod P, one chain per rank by default), each rank solving its own on threads with solvers of
@@ -13,6 +14,7 @@
 //! is done (and `--resume` after a kill), so a killed distributed study loses nothing either.
 
 mod figures;
+mod parquet_rows;
 mod rows;
 mod stats;
 
@@ -411,6 +413,11 @@ pub fn study(args: &StudyArgs) -> anyhow::Result<ExitCode> {
     };
     let mut totals = totals;
     totals.figures = write_figures(&dir, &design, outcomes, &totals.statistics)?;
+    let mut by_index = outcomes.to_vec();
+    by_index.sort_by_key(|o| o.index);
+    let table = dir.join("study.parquet");
+    parquet_rows::write(&table, &design, &by_index)
+        .with_context(|| format!("{}: writing", table.display()))?;
     rows.finish(&plan, &totals)?;
     if args.json {
         println!(
