@@ -134,19 +134,18 @@ impl Service {
         self.running.is_some() || self.held.is_some()
     }
 
-    /// Whether the running solve is the background study's (the solver thread pauses after
-    /// each of its iterations).
-    #[cfg(not(target_arch = "wasm32"))]
+    /// Whether the running solve is the background study's (requests are served before its
+    /// next iteration; the solver thread pauses after each of them).
     pub(crate) fn in_background(&self) -> bool {
         matches!(&self.running, Some(r) if r.origin == Origin::Background)
     }
 
     /// Does one unit of work: applies study controls, starts the newest requested solve
     /// (cancelling a running one; a held one begins when its release comes), or serves the
-    /// oldest other request first if only the
-    /// background study is solving, or runs one iteration of the running solve, or serves the
-    /// oldest other request (field and probe requests wait while the user's solve runs), or,
-    /// with nothing else to do, one unit of the background study. Returns whether work remains.
+    /// oldest other request first if only the background study is solving, or runs one
+    /// iteration of the running solve, or serves the oldest other request (field and probe
+    /// requests wait while the user's solve runs), or, with nothing else to do, one unit of the
+    /// background study. Returns whether work remains.
     pub(crate) fn tick(&mut self, queue: &mut Vec<Request>) -> bool {
         while let Some(i) = queue.iter().position(|c| matches!(c, Request::Study(_))) {
             if let Request::Study(c) = queue.remove(i) {
@@ -188,12 +187,8 @@ impl Service {
             .position(|c| matches!(c, Request::Release { .. }))
         {
             if let Request::Release { generation } = queue.remove(i) {
-                if let Some((g, params)) = self.held.take() {
-                    if g == generation {
-                        self.begin(g, params);
-                    } else {
-                        self.held = Some((g, params));
-                    }
+                if let Some((g, params)) = self.held.take_if(|h| h.0 == generation) {
+                    self.begin(g, params);
                 }
             }
         }
@@ -201,8 +196,7 @@ impl Service {
             return true;
         }
         // requests are served before the background study's next iteration
-        let background = matches!(&self.running, Some(r) if r.origin == Origin::Background);
-        if !background || queue.is_empty() {
+        if !self.in_background() || queue.is_empty() {
             if let Some(mut r) = self.running.take() {
                 if self.iterate(&mut r) {
                     self.conclude(r);
@@ -327,7 +321,7 @@ impl Service {
     }
 
     fn cancel_background(&mut self) {
-        if matches!(&self.running, Some(r) if r.origin == Origin::Background) {
+        if self.in_background() {
             if let Some(mut r) = self.running.take() {
                 r.run.cancel();
                 self.conclude(r);

@@ -412,9 +412,9 @@ pub fn study(args: &StudyArgs) -> anyhow::Result<ExitCode> {
         figures: Vec::new(),
     };
     let mut totals = totals;
-    totals.figures = write_figures(&dir, &design, outcomes, &totals.statistics)?;
     let mut by_index = outcomes.to_vec();
     by_index.sort_by_key(|o| o.index);
+    totals.figures = write_figures(&dir, &design, &by_index, &totals.statistics)?;
     let table = dir.join("study.parquet");
     parquet_rows::write(&table, &design, &by_index)
         .with_context(|| format!("{}: writing", table.display()))?;
@@ -465,15 +465,14 @@ fn describe_point(design: &Design, i: usize) -> String {
     format!("({})", parts.join(", "))
 }
 
-/// The study's figures and `sensitivities.csv`; returns the file names written.
+/// The study's figures and `sensitivities.csv` from its rows in index order; returns the file
+/// names written.
 fn write_figures(
     dir: &std::path::Path,
     design: &Design,
-    outcomes: &[Outcome],
+    sorted: &[Outcome],
     statistics: &[stats::Statistics],
 ) -> anyhow::Result<Vec<String>> {
-    let mut sorted = outcomes.to_vec();
-    sorted.sort_by_key(|o| o.index);
     let mut written = Vec::new();
     let mut put = |name: &str, r: anyhow::Result<()>| -> anyhow::Result<()> {
         r.with_context(|| format!("{}: writing", dir.join(name).display()))?;
@@ -482,21 +481,21 @@ fn write_figures(
     };
     put(
         "quantities.png",
-        figures::quantities(&dir.join("quantities.png"), design, &sorted),
+        figures::quantities(&dir.join("quantities.png"), design, sorted),
     )?;
     if design.targets.len() >= 2 {
         put(
             "map.png",
-            figures::map(&dir.join("map.png"), design, &sorted),
+            figures::map(&dir.join("map.png"), design, sorted),
         )?;
     }
     if design.sampled {
         put(
             "histograms.png",
-            figures::histograms(&dir.join("histograms.png"), &sorted, statistics),
+            figures::histograms(&dir.join("histograms.png"), sorted, statistics),
         )?;
     }
-    let sens = stats::sensitivities(design, &sorted);
+    let sens = stats::sensitivities(design, sorted);
     if !sens.is_empty() {
         put(
             "sensitivities.png",

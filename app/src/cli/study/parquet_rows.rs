@@ -18,6 +18,8 @@ use parquet::file::properties::WriterProperties;
 use parquet::file::writer::{SerializedColumnWriter, SerializedFileWriter};
 use parquet::schema::types::Type;
 
+use super::rows::header;
+
 /// One column's values, None where the row has none.
 enum Column {
     Int(Vec<Option<i64>>),
@@ -66,64 +68,60 @@ fn count(x: usize) -> i64 {
     i64::try_from(x).unwrap_or(i64::MAX)
 }
 
-/// The columns of the rows `outcomes` (in the order given), named as in `study.csv`.
-fn columns(design: &Design, outcomes: &[Outcome]) -> Vec<(String, Column)> {
+/// The columns of the rows `outcomes` (in the order given), in the order of the CSV header.
+fn columns(design: &Design, outcomes: &[Outcome]) -> Vec<Column> {
     let int = |f: &dyn Fn(&Outcome) -> Option<i64>| Column::Int(outcomes.iter().map(f).collect());
     let dbl =
         |f: &dyn Fn(&Outcome) -> Option<f64>| Column::Double(outcomes.iter().map(f).collect());
-    let mut c: Vec<(String, Column)> = vec![
-        ("index".into(), int(&|o| Some(count(o.index)))),
-        ("chain".into(), int(&|o| Some(count(o.chain)))),
-        ("position".into(), int(&|o| Some(count(o.position)))),
+    let mut c = vec![
+        int(&|o| Some(count(o.index))),
+        int(&|o| Some(count(o.chain))),
+        int(&|o| Some(count(o.position))),
     ];
-    for (d, t) in design.targets.iter().enumerate() {
-        c.push((t.label.clone(), dbl(&|o| Some(design.points[o.index][d]))));
+    for d in 0..design.targets.len() {
+        c.push(dbl(&|o| Some(design.points[o.index][d])));
     }
     c.extend([
-        ("start".into(), int(&|o| o.start.map(count))),
-        ("start_distance".into(), dbl(&|o| o.start_distance)),
-        (
-            "start_change".into(),
-            Column::Text(
-                outcomes
-                    .iter()
-                    .map(|o| o.start_change.map(|(k, l)| format!("{k}-{l}")))
-                    .collect(),
-            ),
+        int(&|o| o.start.map(count)),
+        dbl(&|o| o.start_distance),
+        Column::Text(
+            outcomes
+                .iter()
+                .map(|o| o.start_change.map(|(k, l)| format!("{k}-{l}")))
+                .collect(),
         ),
-        (
-            "start_residual_nearest".into(),
-            dbl(&|o| o.start_residual.map(|r| r.0)),
-        ),
-        (
-            "start_residual".into(),
-            dbl(&|o| o.start_residual.map(|r| r.1)),
-        ),
-        ("iterations".into(), int(&|o| Some(count(o.iterations)))),
-        ("eta".into(), dbl(&|o| Some(o.eta))),
-        (
-            "converged".into(),
-            Column::Bool(outcomes.iter().map(|o| Some(o.converged)).collect()),
-        ),
-        ("wall_s".into(), dbl(&|o| Some(o.wall_s))),
-        (
-            "cold_iterations".into(),
-            int(&|o| o.cold_iterations.map(count)),
-        ),
+        dbl(&|o| o.start_residual.map(|r| r.0)),
+        dbl(&|o| o.start_residual.map(|r| r.1)),
+        int(&|o| Some(count(o.iterations))),
+        dbl(&|o| Some(o.eta)),
+        Column::Bool(outcomes.iter().map(|o| Some(o.converged)).collect()),
+        dbl(&|o| Some(o.wall_s)),
+        int(&|o| o.cold_iterations.map(count)),
     ]);
-    for (k, (name, _)) in Quantities::NAMES.iter().enumerate() {
-        c.push((name.to_string(), dbl(&|o| Some(o.quantities.values()[k]))));
+    for k in 0..Quantities::NAMES.len() {
+        c.push(dbl(&|o| Some(o.quantities.values()[k])));
     }
     c
 }
 
-/// Writes `outcomes` (in the order given) to `path`.
+/// Writes `outcomes` (in the order given) to `path`, the columns named by the CSV header.
 pub fn write(path: &FsPath, design: &Design, outcomes: &[Outcome]) -> anyhow::Result<()> {
+    let labels: Vec<String> = design.targets.iter().map(|t| t.label.clone()).collect();
+    let names = header(&labels);
     let columns = columns(design, outcomes);
-    let fields = columns
+    anyhow::ensure!(
+        names.len() == columns.len(),
+        "study.parquet: {} columns for {} CSV headers",
+        columns.len(),
+        names.len()
+    );
+    let optional: Vec<bool> = columns.iter().map(Column::has_nulls).collect();
+    let fields = names
         .iter()
-        .map(|(name, col)| {
-            let repetition = if col.has_nulls() {
+        .zip(&columns)
+        .zip(&optional)
+        .map(|((name, col), &optional)| {
+            let repetition = if optional {
                 Repetition::OPTIONAL
             } else {
                 Repetition::REQUIRED
@@ -145,8 +143,7 @@ pub fn write(path: &FsPath, design: &Design, outcomes: &[Outcome]) -> anyhow::Re
     let mut writer =
         SerializedFileWriter::new(file, schema, Arc::new(WriterProperties::builder().build()))?;
     let mut group = writer.next_row_group()?;
-    for (_, col) in &columns {
-        let optional = col.has_nulls();
+    for (col, &optional) in columns.iter().zip(&optional) {
         let Some(mut w) = group.next_column()? else {
             anyhow::bail!("the Parquet writer has fewer columns than the schema");
         };

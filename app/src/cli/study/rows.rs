@@ -26,8 +26,8 @@ pub struct Rows {
     have: Vec<bool>,
 }
 
-/// The CSV header for these parameters.
-fn header(labels: &[String]) -> Vec<String> {
+/// The CSV header for these parameters (also the column names of `study.parquet`).
+pub(super) fn header(labels: &[String]) -> Vec<String> {
     let mut h: Vec<String> = ["index", "chain", "position"].map(String::from).to_vec();
     h.extend(labels.iter().cloned());
     h.extend(
