@@ -39,6 +39,8 @@ struct FaceMatch {
     face: Face,
     pairs: Vec<(usize, usize)>,
     distance: f64,
+    /// The face group of the pair ([`detect_interfaces_grouped`]; 0: none).
+    group: usize,
 }
 
 /// Detects all two-sided interfaces between the substructures. `rule(body_a, body_b)` tells how
@@ -47,6 +49,23 @@ pub fn detect_interfaces(
     subs: &[Substructure],
     rule: &dyn Fn(&str, &str) -> PairRule,
 ) -> Result<Vec<Interface>> {
+    Ok(detect_interfaces_grouped(subs, rule, &|_, _| 0)?
+        .into_iter()
+        .map(|(iface, _)| iface)
+        .collect())
+}
+
+/// [`detect_interfaces`], with the contact between two substructures split by face groups:
+/// `group(s, face)` is the group of a boundary face of substructure s (0: none; zones by
+/// physical surface, [`crate::zone`]). A matched face pair takes the group of either face
+/// (the smaller where both have one); each node pair goes to one group
+/// ([`crate::surface_groups::deal`]), so that the contact's node pairs, areas and normals are
+/// those of the unsplit interface, dealt to one interface per group. Returns each interface with its group; perfect interfaces are never split.
+pub fn detect_interfaces_grouped(
+    subs: &[Substructure],
+    rule: &dyn Fn(&str, &str) -> PairRule,
+    group: &dyn Fn(usize, &Face) -> usize,
+) -> Result<Vec<(Interface, usize)>> {
     let faces: Vec<Vec<Face>> = subs.iter().map(|s| s.mesh.boundary_faces()).collect();
     let pair_rule = |a: usize, b: usize| {
         if subs[a].body == subs[b].body {
@@ -96,10 +115,15 @@ pub fn detect_interfaces(
                         .ok_or_else(|| nonconforming(subs, s, t, face.centroid))?;
                     matched[s][f] = true;
                     matched[t][g] = true;
+                    let group = match pair_rule(s, t) {
+                        PairRule::Contact { .. } => pair_group(group(s, face), group(t, other)),
+                        _ => 0,
+                    };
                     groups.entry((s, t)).or_default().push(FaceMatch {
                         face: face.clone(),
                         pairs,
                         distance: 0.0,
+                        group,
                     });
                 }
             }
@@ -142,6 +166,7 @@ pub fn detect_interfaces(
                         face: face.clone(),
                         pairs,
                         distance: dist.max(0.0),
+                        group: pair_group(group(s, face), group(t, other)),
                     });
                     break;
                 }
@@ -153,8 +178,16 @@ pub fn detect_interfaces(
 
     Ok(groups
         .into_iter()
-        .map(|((s, t), matches)| build_two_sided(subs, s, t, &matches, pair_rule(s, t)))
+        .flat_map(|((s, t), matches)| build_two_sided(subs, s, t, &matches, pair_rule(s, t)))
         .collect())
+}
+
+/// The group of a matched face pair from its two faces' (0: none).
+fn pair_group(a: usize, b: usize) -> usize {
+    match (a, b) {
+        (0, g) | (g, 0) => g,
+        (a, b) => a.min(b),
+    }
 }
 
 /// Selects the boundary faces of substructure `s` lying on the plane x_axis = value with outward
@@ -276,37 +309,84 @@ pub fn copy_trace_k(subs: &mut [Substructure], interfaces: &[Interface]) {
     }
 }
 
+/// A side-1 node of a two-sided interface as its matched faces give it.
+struct PairedNode {
+    /// The node of side 2.
+    other: usize,
+    /// Lumped area (METHOD §1).
+    area: f64,
+    /// Area-weighted normal (outward of side 1).
+    normal: Vec3,
+    /// Initial distance across the interface.
+    distance: f64,
+    /// Its area per face group.
+    by_group: BTreeMap<usize, f64>,
+}
+
+/// The two-sided interfaces between substructures s and t from their matched faces: one, or
+/// one per face group that holds a node pair ([`detect_interfaces_grouped`]).
 fn build_two_sided(
     subs: &[Substructure],
     s: usize,
     t: usize,
     matches: &[FaceMatch],
     rule: PairRule,
-) -> Interface {
-    // node of side 1 -> (node of side 2, area, area-weighted normal, distance)
-    let mut nodes: BTreeMap<usize, (usize, f64, Vec3, f64)> = BTreeMap::new();
+) -> Vec<(Interface, usize)> {
+    let mut nodes: BTreeMap<usize, PairedNode> = BTreeMap::new();
     for m in matches {
         let a = m.face.area / m.face.nodes.len() as f64;
         for &(n1, n2) in &m.pairs {
-            let e = nodes.entry(n1).or_insert((n2, 0.0, [0.0; 3], m.distance));
-            e.1 += a;
+            let e = nodes.entry(n1).or_insert(PairedNode {
+                other: n2,
+                area: 0.0,
+                normal: [0.0; 3],
+                distance: m.distance,
+                by_group: BTreeMap::new(),
+            });
+            e.area += a;
             for c in 0..3 {
-                e.2[c] += a * m.face.normal[c];
+                e.normal[c] += a * m.face.normal[c];
             }
+            *e.by_group.entry(m.group).or_default() += a;
         }
     }
-    let side1: Vec<usize> = nodes.keys().copied().collect();
-    let side2: Vec<usize> = nodes.values().map(|v| v.0).collect();
-    let area: Vec<f64> = nodes.values().flat_map(|v| [v.1; 3]).collect();
+    // one interface per group, its nodes in increasing order as in the unsplit one
+    let shares: Vec<(f64, &BTreeMap<usize, f64>)> =
+        nodes.values().map(|v| (v.area, &v.by_group)).collect();
+    let mut dealt: BTreeMap<usize, Vec<(usize, &PairedNode)>> = BTreeMap::new();
+    for ((&n, v), g) in nodes.iter().zip(crate::surface_groups::deal(&shares)) {
+        dealt.entry(g).or_default().push((n, v));
+    }
+    dealt
+        .into_iter()
+        .map(|(group, members)| (two_sided(subs, s, t, &members, rule), group))
+        .collect()
+}
+
+/// The interface between s and t on the side-1 nodes `members`, each with its data.
+fn two_sided(
+    subs: &[Substructure],
+    s: usize,
+    t: usize,
+    members: &[(usize, &PairedNode)],
+    rule: PairRule,
+) -> Interface {
+    let side1: Vec<usize> = members.iter().map(|m| m.0).collect();
+    let side2: Vec<usize> = members.iter().map(|m| m.1.other).collect();
+    let area: Vec<f64> = members.iter().flat_map(|m| [m.1.area; 3]).collect();
     let law = match rule {
         PairRule::Contact { friction, gap, .. } => Law::Contact(Contact {
             friction,
-            gap: nodes.values().map(|v| gap.unwrap_or(v.3)).collect(),
-            normal: nodes
-                .values()
-                .map(|v| {
-                    let l = norm(v.2);
-                    [v.2[0] / l, v.2[1] / l, v.2[2] / l]
+            gap: members
+                .iter()
+                .map(|m| gap.unwrap_or(m.1.distance))
+                .collect(),
+            normal: members
+                .iter()
+                .map(|m| {
+                    let v = m.1.normal;
+                    let l = norm(v);
+                    [v[0] / l, v[1] / l, v[2] / l]
                 })
                 .collect(),
         }),

@@ -77,6 +77,7 @@ pub mod stop_test;
 #[cfg(feature = "latin")]
 pub mod study;
 pub mod substructure;
+pub mod surface_groups;
 #[cfg(feature = "latin")]
 pub mod sweep;
 pub mod tet4;

@@ -3,10 +3,12 @@
 //! (issue 20; the laws of METHOD §5, the multiresolution restarts of METHOD §8).
 //!
 //! A zone selects the contact interfaces between the body pairs it lists (`bodies`; none: every
-//! pair) whose centre lies in its box (`min`, `max`; none: anywhere), and, for `v0`, the
-//! boundary interfaces with a non-zero prescribed velocity of the bodies it names (none: every
-//! body) whose centre lies in the box. A zone that selects
-//! nothing, names an unknown body or repeats a name is an error naming the field.
+//! pair) whose centre lies in its box (`min`, `max`; none: anywhere) and that lie on one of the
+//! physical surfaces of Gmsh meshes it names (`surfaces`; none: anywhere; the contacts are
+//! split by surface, [`crate::surface_groups`]), and, for `v0`, the boundary interfaces with a
+//! non-zero prescribed velocity of the bodies it names (none: every body) whose centre lies in
+//! the box and whose surface it names. A zone that selects nothing, names an unknown body or a
+//! surface no mesh file defines, or repeats a name is an error naming the field.
 
 use crate::error::{LopinError, Result};
 use crate::interface::{DofLaw, Interface, Law};
@@ -45,6 +47,24 @@ pub struct ZoneSpec {
     /// Upper corner of that box (m).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max: Option<[f64; 3]>,
+    /// Physical surfaces of the mesh bodies' Gmsh files whose contact interfaces (and
+    /// prescribed velocities) it holds (empty: any).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub surfaces: Vec<String>,
+}
+
+/// The physical surfaces the zones name, each once in order of first mention, with the field
+/// that first names it (`zone[i].surfaces[j]`).
+pub fn surface_names(specs: &[ZoneSpec]) -> Vec<(&str, String)> {
+    let mut out: Vec<(&str, String)> = Vec::new();
+    for (z, spec) in specs.iter().enumerate() {
+        for (j, name) in spec.surfaces.iter().enumerate() {
+            if out.iter().all(|o| o.0 != name) {
+                out.push((name, format!("zone[{z}].surfaces[{j}]")));
+            }
+        }
+    }
+    out
 }
 
 /// The centre of an interface: the mean of its first side's nodes.
@@ -61,11 +81,13 @@ fn centre(iface: &Interface, subs: &[Substructure]) -> [f64; 3] {
     c.map(|x| x / count)
 }
 
-/// The zones of a scene resolved on its interfaces; errors name `source` and `zone[i].FIELD`.
+/// The zones of a scene resolved on its interfaces (`surface_of`: the physical surface each
+/// interface lies on, if any); errors name `source` and `zone[i].FIELD`.
 pub fn resolve(
     specs: &[ZoneSpec],
     subs: &[Substructure],
     interfaces: &[Interface],
+    surface_of: &[Option<String>],
     source: &str,
 ) -> Result<Vec<Zone>> {
     let bodies: std::collections::HashSet<&str> = subs.iter().map(|s| s.body.as_str()).collect();
@@ -126,6 +148,13 @@ pub fn resolve(
         };
         let body_named =
             |a: &str| spec.bodies.is_empty() || spec.bodies.iter().any(|[x, y]| x == a || y == a);
+        let on_surface = |i: usize| {
+            spec.surfaces.is_empty()
+                || surface_of
+                    .get(i)
+                    .and_then(Option::as_deref)
+                    .is_some_and(|s| spec.surfaces.iter().any(|n| n == s))
+        };
         let mut zone = Zone {
             name: spec.name.clone(),
             contacts: Vec::new(),
@@ -134,7 +163,9 @@ pub fn resolve(
         for (i, iface) in interfaces.iter().enumerate() {
             let body = |s: usize| subs[iface.sides[s].sub].body.as_str();
             match &iface.law {
-                Law::Contact(_) if pair_listed(body(0), body(1)) && inside(iface) => {
+                Law::Contact(_)
+                    if pair_listed(body(0), body(1)) && inside(iface) && on_surface(i) =>
+                {
                     zone.contacts.push(i);
                 }
                 Law::Boundary(dofs)
@@ -142,7 +173,8 @@ pub fn resolve(
                         .iter()
                         .any(|d| matches!(d.law, DofLaw::Velocity(f) if f.amplitude != 0.0))
                         && body_named(body(0))
-                        && inside(iface) =>
+                        && inside(iface)
+                        && on_surface(i) =>
                 {
                     zone.boundaries.push(i);
                 }
@@ -151,7 +183,9 @@ pub fn resolve(
         }
         if zone.contacts.is_empty() && zone.boundaries.is_empty() {
             return Err(bad(
-                if spec.min.is_some() || spec.max.is_some() {
+                if !spec.surfaces.is_empty() {
+                    "surfaces"
+                } else if spec.min.is_some() || spec.max.is_some() {
                     "min"
                 } else {
                     "bodies"

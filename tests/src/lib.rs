@@ -169,3 +169,45 @@ pub fn impact_2a() -> (Bar1d, Vec<Chain>, Contact) {
         },
     )
 }
+
+/// Two zones at their own friction (`zones`: each zone's target and value): the LATIN solution
+/// at the solver's tolerance agrees with the monolithic reference of the same problem to 1e-6
+/// (velocity and force), and its friction work lies strictly between the uniform runs' at the
+/// two values. Leaves the solver at the second value everywhere.
+pub fn two_frictions_against_reference_and_uniform(
+    s: &mut Solver,
+    zones: [(&lopin_core::study::Target, f64); 2],
+) {
+    for (t, f) in zones {
+        s.set_parameter_in(t.parameter, t.zone, f).expect("zone");
+        assert_eq!(t.parameter.current_in(s.problem(), t.zone), Some(f));
+    }
+    let mixed = s.solve(None).expect("mixed");
+    assert!(mixed.converged, "eta {}", mixed.eta);
+    let c = against_reference(s, &mixed);
+    let label = format!(
+        "{} {}, {} {}",
+        zones[0].0.label, zones[0].1, zones[1].0.label, zones[1].1
+    );
+    println!(
+        "{label}: {} iterations, velocity {:.2e}, force {:.2e} against the reference",
+        mixed.iterations, c.rel_diff_velocity, c.rel_diff_force
+    );
+    assert!(
+        c.rel_diff_velocity < 1e-6 && c.rel_diff_force < 1e-6,
+        "{c:?}"
+    );
+    let w_mixed = lopin_core::dissipation::contact_work(s, &mixed).friction;
+    let mut work = |f: f64| {
+        s.set_parameter(lopin_core::Parameter::Friction, f)
+            .expect("f");
+        let sol = s.solve(None).expect("solve");
+        lopin_core::dissipation::contact_work(s, &sol).friction
+    };
+    let (wa, wb) = (work(zones[0].1), work(zones[1].1));
+    println!(
+        "friction work: uniform {} {wa:.4e} J, {label} {w_mixed:.4e} J, uniform {} {wb:.4e} J",
+        zones[0].1, zones[1].1
+    );
+    assert!(w_mixed > wa.min(wb) && w_mixed < wa.max(wb));
+}

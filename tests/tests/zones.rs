@@ -13,7 +13,7 @@
 use lopin_core::scene::{self, SceneSpec};
 use lopin_core::study::Target;
 use lopin_core::{dissipation, post, Parameter, Settings, Solver};
-use lopin_tests::against_reference;
+use lopin_tests::two_frictions_against_reference_and_uniform;
 
 const STACK: &str = r#"
 name = "stack"
@@ -128,45 +128,9 @@ fn zones_select_their_interfaces_and_move_their_own_friction() {
     let zoned = s.solve(None).expect("zoned");
     assert!(uniform.state == zoned.state && uniform.hats == zoned.hats);
 
-    // different values: the reference agrees, and the slip lies between the uniform runs
-    s.set_parameter_in(upper.parameter, upper.zone, 0.1)
-        .expect("upper");
-    s.set_parameter_in(lower.parameter, lower.zone, 0.5)
-        .expect("lower");
-    assert_eq!(
-        Parameter::Friction.current_in(s.problem(), upper.zone),
-        Some(0.1)
-    );
-    assert_eq!(
-        Parameter::Friction.current_in(s.problem(), lower.zone),
-        Some(0.5)
-    );
-    let mixed = s.solve(None).expect("mixed");
-    assert!(mixed.converged);
-    let c = against_reference(&s, &mixed);
-    println!(
-        "f@upper 0.1, f@lower 0.5: {} iterations, velocity {:.2e}, force {:.2e} against the reference",
-        mixed.iterations, c.rel_diff_velocity, c.rel_diff_force
-    );
-    assert!(
-        c.rel_diff_velocity < 1e-6 && c.rel_diff_force < 1e-6,
-        "{c:?}"
-    );
-    let work = |s: &mut Solver, f: f64| {
-        s.set_parameter(Parameter::Friction, f).expect("f");
-        let sol = s.solve(None).expect("solve");
-        dissipation::contact_work(s, &sol).friction
-    };
-    s.set_parameter_in(upper.parameter, upper.zone, 0.1)
-        .expect("upper");
-    s.set_parameter_in(lower.parameter, lower.zone, 0.5)
-        .expect("lower");
-    let w_mixed = dissipation::contact_work(&s, &mixed).friction;
-    let (w1, w5) = (work(&mut s, 0.1), work(&mut s, 0.5));
-    println!(
-        "friction work: uniform 0.1 {w1:.4e} J, mixed {w_mixed:.4e} J, uniform 0.5 {w5:.4e} J"
-    );
-    assert!(w_mixed > w1.min(w5) && w_mixed < w1.max(w5));
+    // different values: the reference agrees, and the friction work lies between the uniform
+    // runs'
+    two_frictions_against_reference_and_uniform(&mut s, [(&upper, 0.1), (&lower, 0.5)]);
 }
 
 #[test]
@@ -227,6 +191,11 @@ fn bad_zones_are_refused_naming_the_field() {
             "[[zone]]\nname = \"a\"\nmin = [0.1, 0, 0]\nmax = [0.0, 1, 1]",
             "zone[0].min",
             "not below",
+        ),
+        (
+            "[[zone]]\nname = \"a\"\nsurfaces = [\"pad\"]",
+            "zone[0].surfaces[0]",
+            "physical surfaces come from Gmsh meshes",
         ),
     ] {
         let spec = scene::from_toml(&format!("{text}\n{block}"), "bad").expect("parses");

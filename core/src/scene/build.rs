@@ -5,8 +5,9 @@
 
 use std::collections::HashMap;
 
-use crate::detect::{assemble_traces, boundary_interface, detect_interfaces, PairRule};
+use crate::detect::{assemble_traces, boundary_interface, detect_interfaces_grouped, PairRule};
 use crate::error::{LopinError, Result};
+use crate::interface::Interface;
 use crate::material::Material;
 use crate::mesh::{Mesh, Vec3};
 use crate::problem::{NamedMaterial, Problem};
@@ -220,7 +221,28 @@ pub fn build(spec: &SceneSpec, source: &str) -> Result<Problem> {
             .copied()
             .unwrap_or(PairRule::Perfect)
     };
-    let mut interfaces = detect_interfaces(&subs, &rule).map_err(|e| e.in_source(source))?;
+    // contacts split by the physical surfaces zones name (each interface's surface kept)
+    let named = crate::zone::surface_names(&spec.zones);
+    let names: Vec<&str> = named.iter().map(|n| n.0).collect();
+    let mesh_subs: Vec<&[usize]> = body_subs[spec.bodies.len()..]
+        .iter()
+        .map(Vec::as_slice)
+        .collect();
+    let lookup = meshes
+        .surface_lookup(&names, &mesh_subs, &file_nodes)
+        .map_err(|(g, reason)| LopinError::scene(source, named[g].1.clone(), reason))?;
+    let (mut interfaces, mut surface_of): (Vec<Interface>, Vec<Option<String>>) =
+        detect_interfaces_grouped(&subs, &rule, &|s, face| lookup.group(s, face))
+            .map_err(|e| e.in_source(source))?
+            .into_iter()
+            .map(|(mut iface, g)| {
+                let surface = (g > 0).then(|| names[g - 1].to_string());
+                if let Some(name) = &surface {
+                    iface.name = format!("{}@{name}", iface.name);
+                }
+                (iface, surface)
+            })
+            .unzip();
     check_overrides_found(spec, source, &subs, &interfaces)?;
     for (i, bc) in spec.boundaries.iter().enumerate() {
         let body = body_index
@@ -241,6 +263,7 @@ pub fn build(spec: &SceneSpec, source: &str) -> Result<Problem> {
                     &dofs,
                 )
                 .map_err(|r| LopinError::scene(source, format!("boundary[{i}].surface"), r))?;
+            surface_of.extend(found.iter().map(|_| bc.surface.clone()));
             interfaces.extend(found);
             continue;
         }
@@ -253,11 +276,12 @@ pub fn build(spec: &SceneSpec, source: &str) -> Result<Problem> {
             let name = format!("{}:{}", subs[s].name, bc.face);
             if let Some(it) = boundary_interface(&subs, s, axis, sign, value, &dofs, name) {
                 interfaces.push(it);
+                surface_of.push(None);
             }
         }
     }
     assemble_traces(&mut subs, &mut interfaces);
-    let zones = crate::zone::resolve(&spec.zones, &subs, &interfaces, source)?;
+    let zones = crate::zone::resolve(&spec.zones, &subs, &interfaces, &surface_of, source)?;
     let mut problem = Problem {
         name: spec.name.clone(),
         materials,

@@ -137,3 +137,105 @@ impl MeshBodies {
         }
     }
 }
+
+/// The face groups of the physical surfaces zones name ([`crate::surface_groups`]): per
+/// substructure of a mesh body, the surfaces its file defines (group g for the g-th name) and
+/// the file node of each of its nodes.
+#[derive(Debug, Default)]
+pub struct SurfaceLookup {
+    #[cfg(feature = "msh")]
+    per_sub: std::collections::HashMap<usize, (std::rc::Rc<SurfaceSet>, Vec<usize>)>,
+}
+
+/// The named surfaces of one mesh body's file: (group, facets).
+#[cfg(feature = "msh")]
+type SurfaceSet = Vec<(usize, crate::msh::SurfaceFacets)>;
+
+impl SurfaceLookup {
+    /// The group of a boundary face of substructure `sub` (0: on none of the named surfaces).
+    pub fn group(&self, sub: usize, face: &crate::mesh::Face) -> usize {
+        #[cfg(feature = "msh")]
+        if let Some((set, file_node)) = self.per_sub.get(&sub) {
+            return set
+                .iter()
+                .find(|(_, facets)| facets.holds(face, file_node))
+                .map_or(0, |(g, _)| *g);
+        }
+        let _ = (sub, face);
+        0
+    }
+}
+
+impl MeshBodies {
+    /// The lookup of the physical surfaces `names` (group g + 1 for `names[g]`) on the
+    /// substructures of the mesh bodies (`body_subs[i]`, with per substructure the file node of
+    /// each of its nodes in `file_nodes[i]`); the index of a name no mesh file of the scene
+    /// defines, with the reason.
+    pub fn surface_lookup(
+        &self,
+        names: &[&str],
+        body_subs: &[&[usize]],
+        file_nodes: &[Vec<Vec<usize>>],
+    ) -> std::result::Result<SurfaceLookup, (usize, String)> {
+        if names.is_empty() {
+            return Ok(SurfaceLookup::default());
+        }
+        #[cfg(feature = "msh")]
+        {
+            if self.files.is_empty() {
+                return Err((0, NO_MESH.to_string()));
+            }
+            let mut per_file: Vec<std::rc::Rc<SurfaceSet>> = Vec::new();
+            for file in &self.files {
+                let set = names
+                    .iter()
+                    .enumerate()
+                    .filter_map(|(g, name)| Some((g + 1, file.surface(name).ok()?)))
+                    .collect();
+                per_file.push(std::rc::Rc::new(set));
+            }
+            if let Some(g) =
+                (1..=names.len()).find(|&g| per_file.iter().all(|s| s.iter().all(|e| e.0 != g)))
+            {
+                let known: Vec<&str> = self
+                    .files
+                    .iter()
+                    .flat_map(|f| &f.physicals)
+                    .filter(|p| p.dim == 2)
+                    .map(|p| p.name.as_str())
+                    .collect();
+                return Err((
+                    g - 1,
+                    format!(
+                        "no mesh file of the scene has a physical surface named `{}` (they \
+                         have: {})",
+                        names[g - 1],
+                        if known.is_empty() {
+                            "none".to_string()
+                        } else {
+                            known.join(", ")
+                        }
+                    ),
+                ));
+            }
+            let mut per_sub = std::collections::HashMap::new();
+            for (i, subs) in body_subs.iter().enumerate() {
+                let set = &per_file[self.file_of[i]];
+                for (&sub, file_node) in subs.iter().zip(&file_nodes[i]) {
+                    per_sub.insert(sub, (set.clone(), file_node.clone()));
+                }
+            }
+            Ok(SurfaceLookup { per_sub })
+        }
+        #[cfg(not(feature = "msh"))]
+        {
+            let _ = (body_subs, file_nodes);
+            Err((0, NO_MESH.to_string()))
+        }
+    }
+}
+
+/// Why a zone cannot name surfaces in a scene without mesh bodies.
+const NO_MESH: &str = "physical surfaces come from Gmsh meshes (`[[mesh_body]]`), and this \
+                       scene has none: select the zone's interfaces by `bodies` or by a box \
+                       (`min`, `max`)";
