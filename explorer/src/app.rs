@@ -15,7 +15,7 @@ use crate::field_cache::FieldCache;
 use crate::geometry::SceneGeometry;
 use crate::layout::{Against, Layout};
 use crate::measure::{Action, FrameState, Measure};
-use crate::params::Params;
+use crate::params::{FrictionTargets, Params};
 use crate::recorder::RecorderFactory;
 use crate::recording::Recording;
 use crate::solve_view::SolveView;
@@ -90,6 +90,8 @@ pub struct ExplorerApp {
     pub cache: FieldCache,
     /// The background study's configurations, the stand-in and the pinned configuration.
     pub study: StudyView,
+    /// What the friction slider moves (every contact or one zone) and each one's value.
+    pub friction_targets: FrictionTargets,
     /// The "record to Rerun" toggle.
     pub recording: Recording,
     /// Displayed time step, playback and frame timing.
@@ -156,6 +158,7 @@ impl ExplorerApp {
             dt: problem.time.dt,
         };
         let params = Params::of(&problem, &settings);
+        let friction_targets = FrictionTargets::of(&problem);
         let wake_ctx = ctx.clone();
         let recording = Recording::new(options.recorder.clone(), &info.name);
         let worker = Worker::spawn(
@@ -177,6 +180,7 @@ impl ExplorerApp {
             solve,
             cache: FieldCache::default(),
             study,
+            friction_targets,
             recording,
             clock,
             layout,
@@ -317,10 +321,22 @@ impl ExplorerApp {
             self.pending_scene = Some(name);
         }
         crate::panels::left(ui, |ui| {
-            crate::panels::parameters(ui, self.solve.params_mut(), &mut self.layout.controls);
+            crate::panels::parameters(
+                ui,
+                self.solve.params_mut(),
+                &mut self.friction_targets,
+                &mut self.layout.controls,
+            );
             ui.separator();
             let friction = self.solve.params().friction;
-            crate::study_panel::show(ui, &mut self.study, friction, &mut self.layout.controls);
+            let label = self.solve.params().friction_label();
+            crate::study_panel::show(
+                ui,
+                &mut self.study,
+                friction,
+                &label,
+                &mut self.layout.controls,
+            );
             ui.separator();
             crate::panels::view_options(ui, &mut self.layout, &self.info);
             ui.separator();
@@ -368,7 +384,8 @@ impl ExplorerApp {
         let note = self.view_note();
         let labels = self.study.side_by_side().map(|a| {
             let b = self.solve.requested().friction.unwrap_or(f64::NAN);
-            (format!("A: f = {a:.3}"), format!("B: f = {b:.3}"))
+            let f = self.solve.requested().friction_label();
+            (format!("A: {f} = {a:.3}"), format!("B: {f} = {b:.3}"))
         });
         let side = labels
             .as_ref()

@@ -7,7 +7,7 @@ use crate::app::SceneInfo;
 use crate::clock::Clock;
 use crate::geometry::SceneGeometry;
 use crate::layout::{ControlRects, Layout};
-use crate::params::Params;
+use crate::params::{FrictionTargets, Params};
 use crate::quantity::Quantity;
 use crate::recording::Recording;
 use crate::solve_view::{SolveStatus, SolveView};
@@ -101,17 +101,45 @@ pub fn left(ui: &mut egui::Ui, sections: impl FnOnce(&mut egui::Ui)) {
 }
 
 /// The parameters that launch a warm re-solve (the controls' values in `p`); the friction
-/// slider's rail goes into `controls`.
-pub fn parameters(ui: &mut egui::Ui, p: &mut Params, controls: &mut ControlRects) {
+/// slider's rail goes into `controls`. On a scene with zones, the friction slider moves every
+/// contact or the zone picked beside it (`targets` keeps each one's value).
+pub fn parameters(
+    ui: &mut egui::Ui,
+    p: &mut Params,
+    targets: &mut FrictionTargets,
+    controls: &mut ControlRects,
+) {
     ui.strong("Parameters (each change re-solves warm)");
+    if p.friction.is_some() && targets.zones().next().is_some() {
+        let mut to = p.friction_zone;
+        let name = |z: Option<usize>| match z.and_then(|z| p.zones.get(z)) {
+            Some(n) => format!("zone {n}"),
+            None => "every contact".to_string(),
+        };
+        ui.horizontal_wrapped(|ui| {
+            ui.label("f moves:").on_hover_text(
+                "The contact interfaces the friction slider moves: every one, or one zone of \
+                 the scene ([[zone]]); the background study then covers that zone's values.",
+            );
+            ui.selectable_value(&mut to, None, name(None));
+            for z in targets.zones() {
+                ui.selectable_value(&mut to, Some(z), name(Some(z)));
+            }
+        });
+        targets.switch(p, to);
+    }
+    let label = format!("friction {}", p.friction_label());
     if let Some(f) = &mut p.friction {
         let rail_width = ui.spacing().slider_width;
         let r = ui.add(
             egui::Slider::new(f, 0.0..=1.0)
                 .clamping(egui::SliderClamping::Never)
-                .text("friction f"),
+                .text(label),
         );
         controls.place("friction", slider_rail(r.rect, rail_width));
+        if r.changed() {
+            targets.moved(p);
+        }
     }
     if let Some(g) = &mut p.gap {
         let mut um = *g * 1e6;

@@ -1,5 +1,6 @@
 //! The parameters the explorer lets the user move: the contact interfaces' friction coefficient
-//! and initial gap, the amplitude of the prescribed impact velocity (METHOD §5 laws), and the
+//! (on every contact, or on one zone of the scene, [`FrictionTargets`]) and initial gap, the
+//! amplitude of the prescribed impact velocity (METHOD §5 laws), and the
 //! LATIN settings k, μ, tolerance, the macro problem switch, the time scheme's ρ∞ and the shape of
 //! the search direction (METHOD §2, §3, §7, §9). Applying them never refactorizes unless k, ρ∞ or
 //! the direction shape changes (the macro problem is built the first time it is switched on, and
@@ -8,12 +9,18 @@
 use lopin_core::search_direction::Directions;
 use lopin_core::time_scheme::TimeScheme;
 use lopin_core::{Parameter, Problem, Settings, Solver};
+use std::sync::Arc;
 
 /// One set of parameter values.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Params {
-    /// Friction coefficient of every contact interface (None: the scene has no contact).
+    /// Friction coefficient of the contact interfaces the friction slider moves: every one, or
+    /// those of zone `friction_zone` (None: the scene has no contact).
     pub friction: Option<f64>,
+    /// The zone the friction slider moves (an index into `zones`; None: every contact).
+    pub friction_zone: Option<usize>,
+    /// The names of the scene's zones (`[[zone]]`).
+    pub zones: Arc<[String]>,
     /// Initial gap of every contact node, m (None: the scene has no contact).
     pub gap: Option<f64>,
     /// Amplitude of the prescribed impact velocity, m/s (None: nothing is prescribed).
@@ -37,6 +44,8 @@ impl Params {
     pub fn of(problem: &Problem, settings: &Settings) -> Params {
         Params {
             friction: Parameter::Friction.current(problem),
+            friction_zone: None,
+            zones: problem.zones.iter().map(|z| z.name.clone()).collect(),
             gap: Parameter::Gap.current(problem),
             velocity: Parameter::VelocityAmplitude.current(problem),
             k: settings.k,
@@ -75,10 +84,21 @@ impl Params {
         solver.set_settings(settings)?;
         for p in Parameter::ALL {
             if let Some(v) = self.get(p).filter(|&v| Some(v) != before.get(p)) {
-                solver.set_parameter(p, v)?;
+                match p {
+                    Parameter::Friction => solver.set_parameter_in(p, self.friction_zone, v)?,
+                    _ => solver.set_parameter(p, v)?,
+                }
             }
         }
         Ok(())
+    }
+
+    /// The name of what the friction slider moves: `f`, or `f@ZONE`.
+    pub fn friction_label(&self) -> String {
+        match self.friction_zone.and_then(|z| self.zones.get(z)) {
+            Some(name) => format!("f@{name}"),
+            None => "f".into(),
+        }
     }
 
     /// A one-line description for the convergence plot's markers.
@@ -87,7 +107,11 @@ impl Params {
         for p in Parameter::ALL {
             if let (Some(a), Some(b)) = (self.get(p), before.get(p)) {
                 if a != b {
-                    parts.push(format!("{} = {a:.4}", p.name()));
+                    let name = match p {
+                        Parameter::Friction => self.friction_label(),
+                        _ => p.name().to_string(),
+                    };
+                    parts.push(format!("{name} = {a:.4}"));
                 }
             }
         }
@@ -116,5 +140,101 @@ impl Params {
             parts.push(format!("tol = {:.0e}", self.tol));
         }
         parts.join(", ")
+    }
+}
+
+/// What the friction slider moves and the value it last gave each target: every contact
+/// (target None) or one zone. Switching the target shows that target's value without changing
+/// the problem; a move on every contact gives each zone that value too.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FrictionTargets {
+    /// The value of every contact, then of each zone (None: no contact there).
+    values: Vec<Option<f64>>,
+}
+
+impl FrictionTargets {
+    /// The targets of a built problem, with its current values.
+    pub fn of(problem: &Problem) -> FrictionTargets {
+        let mut values = vec![Parameter::Friction.current(problem)];
+        values.extend(
+            (0..problem.zones.len()).map(|z| Parameter::Friction.current_in(problem, Some(z))),
+        );
+        FrictionTargets { values }
+    }
+
+    /// The zones the slider can move alone (those with a contact interface).
+    pub fn zones(&self) -> impl Iterator<Item = usize> + '_ {
+        (0..self.values.len() - 1).filter(|&z| self.values[z + 1].is_some())
+    }
+
+    /// Points the slider at `to` (None: every contact): `p` shows its value.
+    pub fn switch(&mut self, p: &mut Params, to: Option<usize>) {
+        if to == p.friction_zone || to.is_some_and(|z| self.values.get(z + 1).is_none()) {
+            return;
+        }
+        self.values[p.friction_zone.map_or(0, |z| z + 1)] = p.friction;
+        p.friction_zone = to;
+        p.friction = self.values[to.map_or(0, |z| z + 1)];
+    }
+
+    /// Records a move of the slider to `p.friction`.
+    pub fn moved(&mut self, p: &Params) {
+        match p.friction_zone {
+            Some(z) => self.values[z + 1] = p.friction,
+            None => {
+                for v in self.values.iter_mut().filter(|v| v.is_some()) {
+                    *v = p.friction;
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_slider_shows_each_targets_own_value_and_every_contact_sets_all() {
+        let mut p = Params {
+            friction: Some(0.3),
+            friction_zone: None,
+            zones: vec!["upper".to_string(), "lower".to_string()].into(),
+            gap: None,
+            velocity: None,
+            k: 1.0,
+            mu: 0.8,
+            tol: 1e-3,
+            two_scale: false,
+            rho_inf: 1.0,
+            wave: false,
+        };
+        let mut t = FrictionTargets {
+            values: vec![Some(0.3), Some(0.3), Some(0.3)],
+        };
+        assert_eq!(t.zones().collect::<Vec<_>>(), vec![0, 1]);
+        t.switch(&mut p, Some(0));
+        assert_eq!((p.friction_zone, p.friction), (Some(0), Some(0.3)));
+        assert_eq!(p.friction_label(), "f@upper");
+        p.friction = Some(0.1);
+        t.moved(&p);
+        t.switch(&mut p, Some(1));
+        assert_eq!((p.friction_zone, p.friction), (Some(1), Some(0.3)));
+        t.switch(&mut p, Some(0));
+        assert_eq!(p.friction, Some(0.1));
+        // every contact: shows its last value, and a move gives it to every zone
+        t.switch(&mut p, None);
+        assert_eq!((p.friction_zone, p.friction), (None, Some(0.3)));
+        assert_eq!(p.friction_label(), "f");
+        p.friction = Some(0.5);
+        t.moved(&p);
+        t.switch(&mut p, Some(0));
+        assert_eq!(p.friction, Some(0.5));
+        // an unknown zone is ignored
+        t.switch(&mut p, Some(7));
+        assert_eq!(p.friction_zone, Some(0));
+        let before = p.clone();
+        p.friction = Some(0.2);
+        assert_eq!(p.describe_change(&before), "f@upper = 0.2000");
     }
 }

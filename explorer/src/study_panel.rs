@@ -16,12 +16,14 @@ fn mib(bytes: usize) -> f64 {
     bytes as f64 / (1024.0 * 1024.0)
 }
 
-/// The study section; `current` is the friction value the controls show. The "pin A" button
-/// and the "side by side" choice go into `controls`.
+/// The study section; `current` is the friction value the controls show and `label` what the
+/// slider moves (`f`, or `f@ZONE`). The "pin A" button and the "side by side" choice go into
+/// `controls`.
 pub fn show(
     ui: &mut egui::Ui,
     study: &mut StudyView,
     current: Option<f64>,
+    label: &str,
     controls: &mut ControlRects,
 ) {
     egui::CollapsingHeader::new("Study: friction (background)")
@@ -31,11 +33,17 @@ pub fn show(
                 ui.label("No contact interface: nothing to study.");
                 return;
             }
-            body(ui, study, current.unwrap_or(0.0), controls);
+            body(ui, study, current.unwrap_or(0.0), label, controls);
         });
 }
 
-fn body(ui: &mut egui::Ui, study: &mut StudyView, current: f64, controls: &mut ControlRects) {
+fn body(
+    ui: &mut egui::Ui,
+    study: &mut StudyView,
+    current: f64,
+    label: &str,
+    controls: &mut ControlRects,
+) {
     let grid = study.grid();
     let (lo, hi) = (grid[0], grid[grid.len() - 1]);
     let step = if grid.len() > 1 {
@@ -44,7 +52,7 @@ fn body(ui: &mut egui::Ui, study: &mut StudyView, current: f64, controls: &mut C
         0.0
     };
     ui.label(format!(
-        "stored {} / {} (f {lo:.1}–{hi:.1}, step {step:.2})",
+        "stored {} / {} ({label} {lo:.1}–{hi:.1}, step {step:.2})",
         study.grid_stored(),
         grid.len()
     ));
@@ -63,7 +71,7 @@ fn body(ui: &mut egui::Ui, study: &mut StudyView, current: f64, controls: &mut C
     );
     let activity = match (study.paused, study.running()) {
         (true, _) => "paused".to_string(),
-        (false, Some(v)) => format!("solving f = {v:.2} in the background"),
+        (false, Some(v)) => format!("solving {label} = {v:.2} in the background"),
         (false, None) if study.complete() => "every value stored".to_string(),
         (false, None) => "waits for 1 s without changes".to_string(),
     };
@@ -82,7 +90,7 @@ fn body(ui: &mut egui::Ui, study: &mut StudyView, current: f64, controls: &mut C
     let pinned = study.pinned;
     Plot::new("study")
         .height(130.0)
-        .x_axis_label("f")
+        .x_axis_label(label)
         .include_x(lo)
         .include_x(hi)
         .allow_scroll(false)
@@ -107,7 +115,7 @@ fn body(ui: &mut egui::Ui, study: &mut StudyView, current: f64, controls: &mut C
         }
         match study.pinned {
             Some(a) => {
-                ui.label(format!("A: f = {a:.3}"));
+                ui.label(format!("A: {label} = {a:.3}"));
                 if ui.small_button("unpin").clicked() {
                     study.unpin();
                 }

@@ -268,3 +268,33 @@ fn the_polyhedral_granular_scene_loads_solves_and_draws() {
     assert_eq!(reports.len(), 1, "{reports:?}");
     assert!(reports[0].converged, "{reports:?}");
 }
+
+/// On a scene with zones, the "f moves" buttons point the friction slider at one zone: its
+/// label names the zone, a move re-solves warm with that zone's friction alone, and the
+/// convergence plot's marker names it.
+#[test]
+fn the_friction_slider_can_move_one_zone() {
+    let path = format!(
+        "{}/../assets/scenes/test/mini-stack-zones.toml",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let mut h = harness(&path);
+    settle(&mut h);
+    h.get_by_label("zone upper").click();
+    h.step();
+    h.step();
+    assert_eq!(h.state().solve.params().friction_zone, Some(0));
+    h.get_by_role_and_label(Role::Slider, "friction f@upper")
+        .set_value_accesskit(0.1);
+    h.step();
+    settle(&mut h);
+    let app = h.state();
+    let r = app.solve.reports().last().expect("a report");
+    assert!(r.converged && r.warm, "{r:?}");
+    assert_eq!(
+        (r.params.friction_zone, r.params.friction),
+        (Some(0), Some(0.1))
+    );
+    let marker = &app.solve.markers().last().expect("a marker").1;
+    assert!(marker.starts_with("f@upper = 0.1"), "{marker}");
+}
