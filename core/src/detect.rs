@@ -60,7 +60,8 @@ pub fn detect_interfaces(
 /// physical surface, [`crate::zone`]). A matched face pair takes the group of either face
 /// (the smaller where both have one); each node pair goes to one group
 /// ([`crate::surface_groups::deal`]), so that the contact's node pairs, areas and normals are
-/// those of the unsplit interface, dealt to one interface per group. Returns each interface with its group; perfect interfaces are never split.
+/// those of the unsplit interface, dealt to one interface per group. Returns each interface
+/// with its group; perfect interfaces are never split.
 pub fn detect_interfaces_grouped(
     subs: &[Substructure],
     rule: &dyn Fn(&str, &str) -> PairRule,

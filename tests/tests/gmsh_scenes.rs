@@ -155,7 +155,8 @@ fn zones_on_gmsh_surfaces_split_the_contact_and_the_rim_holds_the_slip() {
     let area = |name: &str| -> f64 { ps.iter().filter(|p| p.0.ends_with(name)).map(|p| p.3).sum() };
     let (centre, rim) = (area("@centre"), area("@rim"));
     println!(
-        "two-blocks-pads-gmsh: {} contact node pairs, centre {} ({centre:.4e} m²), rim {}          ({rim:.4e} m²)",
+        "two-blocks-pads-gmsh: {} contact node pairs, centre {} ({centre:.4e} m²), rim {} \
+         ({rim:.4e} m²)",
         pw.len(),
         ps.iter().filter(|p| p.0.ends_with("@centre")).count(),
         ps.iter().filter(|p| p.0.ends_with("@rim")).count()
