@@ -2,8 +2,9 @@
 //! configurations and resumed keeps every finished row byte for byte, solves the rest, and ends
 //! with the same configurations and quantities (to the tolerance's reach: a resumed chain restarts
 //! cold) as an uninterrupted study, with its figures and `study.parquet` (the CSV's rows, typed); the rows a killed distributed study left
-//! in a rank's folder are taken in by the resume; bad input is refused with a message naming
-//! the option and the reason, before anything is written.
+//! in a rank's folder are taken in by the resume; a study over two zones of a Gmsh scene (its
+//! contact face's physical surfaces) writes a column per zone; bad input is refused with a
+//! message naming the option and the reason, before anything is written.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
@@ -296,4 +297,46 @@ fn bad_study_input_is_refused_with_the_option_and_the_reason() {
         &["--param", "f=0:0.5:0.1", "--resume"],
         &["--resume", "no study to resume"],
     );
+}
+
+/// `lopin study` over two zones of a Gmsh scene, the contact face's physical surfaces `centre`
+/// and `rim` (needs gmsh: the README's test command installs it): one column per zone, every
+/// configuration converged, the rim's friction holding the slip (with f = 0.5 at the centre and
+/// 0 on the rim the slip is over 5 times that the other way round), and study.parquet with the
+/// same rows.
+#[test]
+fn a_study_over_two_zones_of_a_gmsh_scene_moves_each_zone() {
+    let dir = scratch("zones");
+    let scene = format!(
+        "{}/../assets/scenes/gmsh/two-blocks-pads-gmsh.toml",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    succeeds(
+        lopin()
+            .args(["study", &scene, "--param", "f@centre=0,0.5"])
+            .args(["--param", "f@rim=0,0.5", "--window", "whole", "--out"])
+            .arg(&dir),
+    );
+    let text = std::fs::read_to_string(dir.join("study.csv")).expect("study.csv");
+    let header = text.lines().next().expect("header");
+    assert!(header.contains(",f@centre,f@rim,"), "{header}");
+    let rows = rows(&dir);
+    assert_eq!(rows.len(), 4);
+    let at = |c: f64, r: f64| {
+        rows.iter()
+            .map(|(_, l)| l)
+            .find(|l| column(l, header, "f@centre") == c && column(l, header, "f@rim") == r)
+            .expect("configuration")
+    };
+    for (_, l) in &rows {
+        assert!(l.contains(",true,"), "not converged: {l}");
+    }
+    let (free_rim, held_rim) = (
+        column(at(0.5, 0.0), header, "max_slip"),
+        column(at(0.0, 0.5), header, "max_slip"),
+    );
+    println!("max slip: f@centre 0.5, f@rim 0: {free_rim:.3e} m; f@centre 0, f@rim 0.5: {held_rim:.3e} m");
+    assert!(free_rim > 5.0 * held_rim, "{free_rim:e} {held_rim:e}");
+    parquet_matches_csv(&dir);
+    let _ = std::fs::remove_dir_all(&dir);
 }
