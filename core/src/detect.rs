@@ -109,14 +109,15 @@ pub fn detect_interfaces_grouped(
                     {
                         continue;
                     }
-                    if pair_rule(s, t) == PairRule::Free {
+                    let rule = pair_rule(s, t);
+                    if rule == PairRule::Free {
                         continue;
                     }
                     let pairs = pair_nodes(subs, s, face, t, other, [0.0; 3], tol)
                         .ok_or_else(|| nonconforming(subs, s, t, face.centroid))?;
                     matched[s][f] = true;
                     matched[t][g] = true;
-                    let group = match pair_rule(s, t) {
+                    let group = match rule {
                         PairRule::Contact { .. } => pair_group(group(s, face), group(t, other)),
                         _ => 0,
                     };

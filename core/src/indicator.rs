@@ -32,8 +32,9 @@ pub use crate::stop_test::StopTest;
 /// (m0 > 1) step m0 − 1 is fixed with what residual its window converged to, which no iteration
 /// of this window can reduce: averaged in, it would hold η̄ near the tolerance for ever (a
 /// one-step window stopped on η̄ never converged), so step m0 is measured on its own fields, as
-/// η measures it, and a one-step window's η̄ is its η. One sum per interface side, computed in parallel on the rank holding the side's
-/// substructure and added in (interface, side) order ([`Distribution::gathered_sums`]).
+/// η measures it, and a one-step window's η̄ is its η. One sum per interface side, computed in
+/// parallel on the rank holding the side's substructure and added in (interface, side) order
+/// ([`Distribution::gathered_sums`]).
 pub fn smooth_sums(
     interfaces: &[Interface],
     k: f64,

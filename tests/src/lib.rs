@@ -211,3 +211,39 @@ pub fn two_frictions_against_reference_and_uniform(
     );
     assert!(w_mixed > wa.min(wb) && w_mixed < wa.max(wb));
 }
+
+/// One contact node pair of a problem ([`contact_pairs`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ContactPair {
+    /// The interface holding it.
+    pub interface: String,
+    /// Its node on side 1 and on side 2.
+    pub nodes: (usize, usize),
+    /// Lumped area, m².
+    pub area: f64,
+    /// Unit normal (outward of side 1).
+    pub normal: [f64; 3],
+    /// Initial gap, m.
+    pub gap: f64,
+}
+
+/// Every contact node pair of a problem, in the order of its interfaces and their nodes.
+pub fn contact_pairs(p: &Problem) -> Vec<ContactPair> {
+    let mut out = Vec::new();
+    for iface in &p.interfaces {
+        let lopin_core::interface::Law::Contact(c) = &iface.law else {
+            continue;
+        };
+        let sides = iface.sides[0].nodes.iter().zip(&iface.sides[1].nodes);
+        for (j, (&a, &b)) in sides.enumerate() {
+            out.push(ContactPair {
+                interface: iface.name.clone(),
+                nodes: (a, b),
+                area: iface.area[3 * j],
+                normal: c.normal[j],
+                gap: c.gap[j],
+            });
+        }
+    }
+    out
+}

@@ -21,12 +21,11 @@
 //!   with no friction on the rim and 0.5 at the centre the slip is over 5 times that with 0.5 on
 //!   the rim and none at the centre (measured 6.38e-5 m against 7.87e-6 m).
 
-use lopin_core::interface::Law;
 use lopin_core::post;
 use lopin_core::scene::{self, SceneSpec};
 use lopin_core::study::Target;
 use lopin_core::{Settings, Solver};
-use lopin_tests::{against_reference, plateau, solve_problem};
+use lopin_tests::{against_reference, contact_pairs, plateau, solve_problem};
 
 fn gmsh_scene(name: &str) -> (SceneSpec, String) {
     let path = format!(
@@ -134,22 +133,12 @@ fn zones_on_gmsh_surfaces_split_the_contact_and_the_rim_holds_the_slip() {
     let split = scene::build::build(&spec, &path).unwrap_or_else(|e| panic!("{e}"));
     spec.zones.clear();
     let whole = scene::build::build(&spec, &path).unwrap_or_else(|e| panic!("{e}"));
-    // (name, side-1 node, side-2 node, area) of every contact node pair
-    let pairs = |p: &lopin_core::problem::Problem| {
-        let mut out = Vec::new();
-        for iface in &p.interfaces {
-            if matches!(iface.law, Law::Contact(_)) {
-                for (j, (&a, &b)) in iface.sides[0]
-                    .nodes
-                    .iter()
-                    .zip(&iface.sides[1].nodes)
-                    .enumerate()
-                {
-                    out.push((iface.name.clone(), a, b, iface.area[3 * j]));
-                }
-            }
-        }
-        out
+    // (interface, side-1 node, side-2 node, area) of every contact node pair
+    let pairs = |p: &lopin_core::problem::Problem| -> Vec<(String, usize, usize, f64)> {
+        contact_pairs(p)
+            .into_iter()
+            .map(|c| (c.interface, c.nodes.0, c.nodes.1, c.area))
+            .collect()
     };
     let (ps, pw) = (pairs(&split), pairs(&whole));
     let area = |name: &str| -> f64 { ps.iter().filter(|p| p.0.ends_with(name)).map(|p| p.3).sum() };
