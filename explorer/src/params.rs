@@ -164,23 +164,23 @@ impl FrictionTargets {
 
     /// The zones the slider can move alone (those with a contact interface).
     pub fn zones(&self) -> impl Iterator<Item = usize> + '_ {
-        (0..self.values.len() - 1).filter(|&z| self.values[z + 1].is_some())
+        (0..self.values.len() - 1).filter(|&z| self.values[slot(Some(z))].is_some())
     }
 
     /// Points the slider at `to` (None: every contact): `p` shows its value.
     pub fn switch(&mut self, p: &mut Params, to: Option<usize>) {
-        if to == p.friction_zone || to.is_some_and(|z| self.values.get(z + 1).is_none()) {
+        if to == p.friction_zone || self.values.get(slot(to)).is_none() {
             return;
         }
-        self.values[p.friction_zone.map_or(0, |z| z + 1)] = p.friction;
+        self.values[slot(p.friction_zone)] = p.friction;
         p.friction_zone = to;
-        p.friction = self.values[to.map_or(0, |z| z + 1)];
+        p.friction = self.values[slot(to)];
     }
 
     /// Records a move of the slider to `p.friction`.
     pub fn moved(&mut self, p: &Params) {
         match p.friction_zone {
-            Some(z) => self.values[z + 1] = p.friction,
+            Some(_) => self.values[slot(p.friction_zone)] = p.friction,
             None => {
                 for v in self.values.iter_mut().filter(|v| v.is_some()) {
                     *v = p.friction;
@@ -188,6 +188,11 @@ impl FrictionTargets {
             }
         }
     }
+}
+
+/// The index in [`FrictionTargets`]'s values of a target (None: every contact).
+fn slot(target: Option<usize>) -> usize {
+    target.map_or(0, |z| z + 1)
 }
 
 #[cfg(test)]

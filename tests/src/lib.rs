@@ -247,3 +247,22 @@ pub fn contact_pairs(p: &Problem) -> Vec<ContactPair> {
     }
     out
 }
+
+/// Asserts that `split` holds the contact node pairs of `whole`, whichever interfaces hold them:
+/// the same pairs, each with the same lumped area, normal and gap (a contact split by surface
+/// is a partition of the unsplit one).
+pub fn assert_same_contact_pairs(whole: &Problem, split: &Problem) {
+    let by_node = |p: &Problem| {
+        let mut v: Vec<_> = contact_pairs(p)
+            .into_iter()
+            .map(|c| (c.nodes, c.area, c.normal, c.gap))
+            .collect();
+        v.sort_by_key(|c| c.0);
+        v
+    };
+    assert_eq!(
+        by_node(whole),
+        by_node(split),
+        "the split partitions the contact"
+    );
+}

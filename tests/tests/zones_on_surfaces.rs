@@ -19,7 +19,9 @@ use lopin_core::scene;
 use lopin_core::study::Target;
 use lopin_core::{dissipation, post, Settings, Solver};
 use lopin_tests::msh_writer::{stacked_cubes, write};
-use lopin_tests::{contact_pairs, two_frictions_against_reference_and_uniform};
+use lopin_tests::{
+    assert_same_contact_pairs, contact_pairs, two_frictions_against_reference_and_uniform,
+};
 
 const SIZE: f64 = 0.02;
 const CELLS: usize = 4;
@@ -122,17 +124,6 @@ fn solver(problem: Problem, tol: f64) -> Solver {
     Solver::new(problem, settings).expect("solver")
 }
 
-/// (side-1 node, side-2 node, area, normal, gap) of every contact node pair of a problem,
-/// whatever interface holds it, by side-1 node.
-fn node_pairs(p: &Problem) -> Vec<(usize, usize, f64, [f64; 3], f64)> {
-    let mut out: Vec<_> = contact_pairs(p)
-        .into_iter()
-        .map(|c| (c.nodes.0, c.nodes.1, c.area, c.normal, c.gap))
-        .collect();
-    out.sort_by_key(|p| p.0);
-    out
-}
-
 #[test]
 fn zones_on_physical_surfaces_split_the_contact_and_move_their_own_friction() {
     let unzoned = SCENE[..SCENE.find("[[zone]]").expect("zones")].to_string();
@@ -159,10 +150,11 @@ fn zones_on_physical_surfaces_split_the_contact_and_move_their_own_friction() {
         ]
     );
     // a partition of the unsplit contact: the same pairs, areas, normals and gaps
-    assert_eq!(node_pairs(&whole), node_pairs(&split));
-    let area: f64 = node_pairs(&split).iter().map(|p| p.2).sum();
+    assert_same_contact_pairs(&whole, &split);
+    let pairs = contact_pairs(&split);
+    let area: f64 = pairs.iter().map(|p| p.area).sum();
     assert!((area - SIZE * SIZE).abs() < 1e-12 * SIZE * SIZE, "{area}");
-    let node = node_pairs(&split).iter().fold(0.0f64, |m, p| m.max(p.2));
+    let node = pairs.iter().fold(0.0f64, |m, p| m.max(p.area));
     for iface in split
         .interfaces
         .iter()
@@ -219,11 +211,18 @@ fn zones_on_physical_surfaces_split_the_contact_and_move_their_own_friction() {
 
 #[test]
 fn a_zone_on_an_unknown_surface_or_one_without_contact_is_refused() {
-    let e = build(
-        &SCENE.replacen("surfaces = [\"right\"]", "surfaces = [\"middle\"]", 1),
-        "unknown",
-    )
-    .expect_err("unknown surface");
+    // the scene with the zone `right` on `surfaces` instead
+    let right_on = |surfaces: &str, name: &str| {
+        build(
+            &SCENE.replacen(
+                "surfaces = [\"right\"]",
+                &format!("surfaces = {surfaces}"),
+                1,
+            ),
+            name,
+        )
+    };
+    let e = right_on(r#"["middle"]"#, "unknown").expect_err("unknown surface");
     println!("{e}");
     assert!(
         e.contains("zone[1].surfaces[0]")
@@ -232,23 +231,14 @@ fn a_zone_on_an_unknown_surface_or_one_without_contact_is_refused() {
             && e.contains("bottom"),
         "{e}"
     );
-    let e = build(
-        &SCENE.replacen("surfaces = [\"right\"]", "surfaces = [\"bottom\"]", 1),
-        "empty",
-    )
-    .expect_err("no contact on the surface");
+    let e = right_on(r#"["bottom"]"#, "empty").expect_err("no contact on the surface");
     println!("{e}");
     assert!(
         e.contains("zone[1].surfaces") && e.contains("holds no contact interface"),
         "{e}"
     );
     // the prescribed velocity of the surface `top` is a zone's v0
-    let top = SCENE.replacen(
-        "surfaces = [\"right\"]",
-        "surfaces = [\"right\", \"top\"]",
-        1,
-    );
-    let p = build(&top, "top").expect("builds");
+    let p = right_on(r#"["right", "top"]"#, "top").expect("builds");
     assert_eq!(p.zones[1].contacts.len(), 1, "{:?}", p.zones);
     assert_eq!(p.zones[1].boundaries.len(), 1, "{:?}", p.zones);
 }
