@@ -9,15 +9,22 @@
 #                     first and to the converged picture of each move, frame intervals idle /
 #                     background study / re-solving; prints the JSON
 #                     (out/explorer-measure.json) and a summary table.
+# LOPIN_BIN: the `lopin` binary to run (default: built here with LOPIN_FEATURES).
 # Needs: xvfb xauth mesa-vulkan-drivers libvulkan1 imagemagick xdotool (scripts/install-gui-deps.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 mode="${1:-smoke}"
 scene="${2:-}"
 mkdir -p out
-# shellcheck disable=SC2086  # LOPIN_FEATURES holds several arguments (CI: the mpi feature)
-cargo build --release -q -p lopin ${LOPIN_FEATURES:-}
-bin=target/release/lopin
+# the binary: $LOPIN_BIN where the caller has one (the test command passes the one its test build
+# made, scripts/lopin-bin.sh, so nothing is compiled twice), else built here
+if [ -n "${LOPIN_BIN:-}" ]; then
+    bin="$LOPIN_BIN"
+else
+    # shellcheck disable=SC2086  # LOPIN_FEATURES holds several arguments (CI: the mpi feature)
+    cargo build --release -q -p lopin ${LOPIN_FEATURES:-}
+    bin=target/release/lopin
+fi
 
 display=:97
 Xvfb "$display" -screen 0 1600x1000x24 -nolisten tcp -extension Composite >/tmp/lopin-xvfb.log 2>&1 &

@@ -8,7 +8,9 @@
 # of it. The harnesses also stop drawing new cases a margin before their half is over (through
 # LOPIN_FUZZ_BUDGET_SECONDS), so a campaign ends cleanly with its report rather than killed.
 # The generators are seeded: a failure reproduces by running again with the same
-# LOPIN_FUZZ_SEED (unset: each harness's fixed default seed). Builds first, outside the bound.
+# LOPIN_FUZZ_SEED (unset: each harness's fixed default seed). Builds first, outside the bound,
+# with the whole workspace's features (`--workspace`, as the README's test command builds), so
+# after that command nothing is compiled again.
 #
 #   scripts/fuzz.sh                                  # 400 cases each, at most 600 s in all
 #   LOPIN_FUZZ_CASES=2000 LOPIN_FUZZ_SECONDS=1800 LOPIN_FUZZ_SEED=7 scripts/fuzz.sh
@@ -26,8 +28,8 @@ budget=$(( seconds - margin - 60 > 0 ? seconds - margin - 60 : seconds / 2 ))
 export LOPIN_FUZZ_BUDGET_SECONDS="${LOPIN_FUZZ_BUDGET_SECONDS:-$budget}"
 
 targets=(
-    "-p lopin-tests --test fuzz_scenes"
-    "-p lopin ${LOPIN_FEATURES:-} --test fuzz_cli"
+    "--workspace ${LOPIN_FEATURES:-} --test fuzz_scenes"
+    "--workspace ${LOPIN_FEATURES:-} --test fuzz_cli"
 )
 
 for t in "${targets[@]}"; do
