@@ -3,7 +3,7 @@
 # --release --workspace $LOPIN_FEATURES`), building it first if it is not built yet (after that
 # command there is nothing to build). CI's steps after the tests run this binary instead of
 # `cargo build -p lopin`: a build of one package resolves the dependencies' features without the
-# other members and the dev-dependencies, so it would compile about 120 crates (egui, eframe,
+# other members and the dev-dependencies, so it would compile 74 crates (egui, eframe, parts of
 # the rerun SDK, lopin-core) a second time.
 set -euo pipefail
 cd "$(dirname "$0")/.."
