@@ -18,7 +18,7 @@ chmod 700 "$XDG_RUNTIME_DIR"
 # the `mpi` feature on: its tests run the binary under mpirun (app/tests/mpi.rs)
 export LOPIN_FEATURES="--features lopin/mpi"
 cargo test --release --workspace $LOPIN_FEATURES
-# the smoke test runs the binary the tests ran (a `cargo build -p lopin` would rebuild 74 crates)
+# the smoke test runs the binary the tests ran (why: scripts/lopin-bin.sh)
 LOPIN_BIN="$(./scripts/lopin-bin.sh)"
 export LOPIN_BIN
 ./scripts/explorer-xvfb.sh smoke
