@@ -428,7 +428,19 @@ impl ExplorerApp {
 }
 
 impl eframe::App for ExplorerApp {
-    fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
+    /// The panels' colour: from the next frame they are drawn without a fill over it
+    /// ([`crate::panels::panel_frame`]).
+    fn clear_color(&self, visuals: &egui::Visuals) -> [f32; 4] {
+        crate::panels::mark_cleared_to_panel_fill(&self.ctx);
+        visuals.panel_fill.to_normalized_gamma_f32()
+    }
+
+    fn ui(&mut self, ui: &mut egui::Ui, frame: &mut eframe::Frame) {
+        // the last frame's time in egui and the painter, vsync waiting excluded
+        let state = self.frame_state();
+        if let (Some(m), Some(cpu)) = (&mut self.measure, frame.info().cpu_usage) {
+            m.on_cpu_time(f64::from(cpu), state);
+        }
         self.frame(ui);
     }
 }

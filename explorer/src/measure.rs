@@ -8,7 +8,9 @@
 //! the converged fields: the first mesh built from them, and the start of the next frame, when
 //! that frame has been presented) and to the converged picture, and the change → converged
 //! report latency; over the whole run, the frame intervals while idle, while the background
-//! study solves and while a re-solve runs. The results are printed and written as JSON, then the
+//! study solves and while a re-solve runs, and in each of these states eframe's time per frame
+//! outside acquiring and presenting the surface (egui, tessellation, command encoding: what is
+//! left of a frame is the rasterizer's). The results are printed and written as JSON, then the
 //! window closes.
 
 use crate::protocol::SolveReport;
@@ -99,6 +101,9 @@ pub struct Measure {
     busy_ui: Vec<f64>,
     background_ui: Vec<f64>,
     idle_ui: Vec<f64>,
+    busy_cpu: Vec<f64>,
+    background_cpu: Vec<f64>,
+    idle_cpu: Vec<f64>,
 }
 
 fn stats(v: &[f64]) -> Stats {
@@ -146,6 +151,9 @@ impl Measure {
             busy_ui: Vec::new(),
             background_ui: Vec::new(),
             idle_ui: Vec::new(),
+            busy_cpu: Vec::new(),
+            background_cpu: Vec::new(),
+            idle_cpu: Vec::new(),
         }
     }
 
@@ -183,6 +191,22 @@ impl Measure {
         if self.phase != Phase::Start {
             self.bin(s).1.push(seconds);
         }
+    }
+
+    /// Records the time eframe spent on the last frame (egui and the painter: layout,
+    /// tessellation, rendering and submitting; the wait for the presentation excluded).
+    pub fn on_cpu_time(&mut self, seconds: f64, s: FrameState) {
+        if self.phase == Phase::Start {
+            return;
+        }
+        let v = if s.busy {
+            &mut self.busy_cpu
+        } else if s.background {
+            &mut self.background_cpu
+        } else {
+            &mut self.idle_cpu
+        };
+        v.push(seconds);
     }
 
     /// The move's request went out with this generation.
@@ -321,6 +345,9 @@ impl Measure {
             "ui_thread_ms_per_frame_idle": ms(&self.idle_ui),
             "ui_thread_ms_per_frame_background_study": ms(&self.background_ui),
             "ui_thread_ms_per_frame_while_solving": ms(&self.busy_ui),
+            "frame_cpu_ms_idle": ms(&self.idle_cpu),
+            "frame_cpu_ms_background_study": ms(&self.background_cpu),
+            "frame_cpu_ms_while_solving": ms(&self.busy_cpu),
         });
         let text = format!("{report:#}\n");
         print!("{text}");

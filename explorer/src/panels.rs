@@ -21,37 +21,39 @@ pub fn top_bar(
     reproducible: bool,
 ) -> Option<String> {
     let mut picked = None;
-    egui::Panel::top("lopin-top").show(ui, |ui| {
-        ui.horizontal(|ui| {
-            ui.heading("Lopin");
-            ui.separator();
-            let mut chosen = None;
-            egui::ComboBox::from_label("scene")
-                .selected_text(info.name.clone())
-                .show_ui(ui, |ui| {
-                    // scenes of a million dofs are for the command line (`lopin run`), not a
-                    // live view; the web build meshes nothing with gmsh
-                    let scenes = lopin_core::scene::registry::SCENES.into_iter().filter(|n| {
-                        !lopin_core::scene::registry::is_large(n)
-                            && (cfg!(feature = "meshes")
-                                || !lopin_core::scene::registry::needs_gmsh(n))
-                    });
-                    for name in scenes {
-                        if ui.selectable_label(info.name == name, name).clicked() {
-                            chosen = Some(name.to_string());
+    egui::Panel::top("lopin-top")
+        .frame(panel_frame(ui))
+        .show(ui, |ui| {
+            ui.horizontal(|ui| {
+                ui.heading("Lopin");
+                ui.separator();
+                let mut chosen = None;
+                egui::ComboBox::from_label("scene")
+                    .selected_text(info.name.clone())
+                    .show_ui(ui, |ui| {
+                        // scenes of a million dofs are for the command line (`lopin run`), not a
+                        // live view; the web build meshes nothing with gmsh
+                        let scenes = lopin_core::scene::registry::SCENES.into_iter().filter(|n| {
+                            !lopin_core::scene::registry::is_large(n)
+                                && (cfg!(feature = "meshes")
+                                    || !lopin_core::scene::registry::needs_gmsh(n))
+                        });
+                        for name in scenes {
+                            if ui.selectable_label(info.name == name, name).clicked() {
+                                chosen = Some(name.to_string());
+                            }
                         }
-                    }
+                    });
+                picked = chosen.filter(|n| *n != info.name);
+                ui.label(RichText::new(&info.description).weak());
+                ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
+                    status_label(ui, solve, reproducible);
                 });
-            picked = chosen.filter(|n| *n != info.name);
-            ui.label(RichText::new(&info.description).weak());
-            ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
-                status_label(ui, solve, reproducible);
             });
+            if let Some(e) = solve.error() {
+                ui.colored_label(Color32::from_rgb(220, 80, 60), format!("error: {e}"));
+            }
         });
-        if let Some(e) = solve.error() {
-            ui.colored_label(Color32::from_rgb(220, 80, 60), format!("error: {e}"));
-        }
-    });
     picked
 }
 
@@ -88,10 +90,39 @@ fn status_label(ui: &mut egui::Ui, solve: &SolveView, reproducible: bool) {
     ui.label(text);
 }
 
+/// Records in the context's memory that the painter clears the window to the panels' colour:
+/// called from [`crate::app::ExplorerApp`]'s `clear_color`, which eframe calls on the desktop
+/// and in the browser (a test harness clears to its own colour and never calls it).
+pub fn mark_cleared_to_panel_fill(ctx: &egui::Context) {
+    ctx.data_mut(|d| d.insert_temp(cleared_id(), true));
+}
+
+fn cleared_id() -> egui::Id {
+    egui::Id::unique("lopin-cleared-to-panel-fill")
+}
+
+/// The frame of the side, top and bottom panels: egui's, without its fill where the window is
+/// cleared to the panels' colour ([`mark_cleared_to_panel_fill`]), so they look the same. A fill is shaded
+/// pixel by pixel, and on a software rasterizer (lavapipe) the panels' fills were over half the
+/// pixels of an idle frame.
+pub fn panel_frame(ui: &egui::Ui) -> egui::Frame {
+    let frame = egui::Frame::side_top_panel(ui.style());
+    let cleared = ui
+        .ctx()
+        .data(|d| d.get_temp::<bool>(cleared_id()))
+        .unwrap_or(false);
+    if cleared {
+        frame.fill(egui::Color32::TRANSPARENT)
+    } else {
+        frame
+    }
+}
+
 /// Left panel, scrolling: `sections` lays out its content (parameters, view options,
 /// recording, sizes and timings, separated).
 pub fn left(ui: &mut egui::Ui, sections: impl FnOnce(&mut egui::Ui)) {
     egui::Panel::left("lopin-controls")
+        .frame(panel_frame(ui))
         .resizable(false)
         .exact_size(280.0)
         .show(ui, |ui| {

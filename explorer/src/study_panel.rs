@@ -89,6 +89,7 @@ fn body(
     let curve = study.curve(study.quantity);
     let pinned = study.pinned;
     Plot::new("study")
+        .show_background(false)
         .height(130.0)
         .x_axis_label(label)
         .include_x(lo)
