@@ -102,9 +102,9 @@ fn cleared_id() -> egui::Id {
 }
 
 /// The frame of the side, top and bottom panels: egui's, without its fill where the window is
-/// cleared to the panels' colour ([`mark_cleared_to_panel_fill`]), so they look the same. A fill is shaded
-/// pixel by pixel, and on a software rasterizer (lavapipe) the panels' fills were over half the
-/// pixels of an idle frame.
+/// cleared to the panels' colour ([`mark_cleared_to_panel_fill`]), so they look the same. A
+/// fill is shaded pixel by pixel, and on a software rasterizer (lavapipe) the panels' fills
+/// were over half the pixels egui shaded in an idle frame.
 pub fn panel_frame(ui: &egui::Ui) -> egui::Frame {
     let frame = egui::Frame::side_top_panel(ui.style());
     let cleared = ui
