@@ -176,13 +176,18 @@ impl Measure {
         self.bin(previous).0.push(dt);
     }
 
-    fn bin(&mut self, s: FrameState) -> (&mut Vec<f64>, &mut Vec<f64>) {
+    /// The frame intervals, UI-thread times and eframe times of frames in state `s`.
+    fn bin(&mut self, s: FrameState) -> (&mut Vec<f64>, &mut Vec<f64>, &mut Vec<f64>) {
         if s.busy {
-            (&mut self.busy_frames, &mut self.busy_ui)
+            (&mut self.busy_frames, &mut self.busy_ui, &mut self.busy_cpu)
         } else if s.background {
-            (&mut self.background_frames, &mut self.background_ui)
+            (
+                &mut self.background_frames,
+                &mut self.background_ui,
+                &mut self.background_cpu,
+            )
         } else {
-            (&mut self.idle_frames, &mut self.idle_ui)
+            (&mut self.idle_frames, &mut self.idle_ui, &mut self.idle_cpu)
         }
     }
 
@@ -196,17 +201,9 @@ impl Measure {
     /// Records the time eframe spent on the last frame (egui and the painter: layout,
     /// tessellation, rendering and submitting; the wait for the presentation excluded).
     pub fn on_cpu_time(&mut self, seconds: f64, s: FrameState) {
-        if self.phase == Phase::Start {
-            return;
+        if self.phase != Phase::Start {
+            self.bin(s).2.push(seconds);
         }
-        let v = if s.busy {
-            &mut self.busy_cpu
-        } else if s.background {
-            &mut self.background_cpu
-        } else {
-            &mut self.idle_cpu
-        };
-        v.push(seconds);
     }
 
     /// The move's request went out with this generation.
