@@ -437,9 +437,11 @@ impl eframe::App for ExplorerApp {
 
     fn ui(&mut self, ui: &mut egui::Ui, frame: &mut eframe::Frame) {
         // the last frame's time in egui and the painter, vsync waiting excluded
-        let state = self.frame_state();
-        if let (Some(m), Some(cpu)) = (&mut self.measure, frame.info().cpu_usage) {
-            m.on_cpu_time(f64::from(cpu), state);
+        if let (true, Some(cpu)) = (self.measure.is_some(), frame.info().cpu_usage) {
+            let state = self.frame_state();
+            if let Some(m) = &mut self.measure {
+                m.on_cpu_time(f64::from(cpu), state);
+            }
         }
         self.frame(ui);
     }
