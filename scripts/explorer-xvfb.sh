@@ -69,7 +69,9 @@ print("| f | stored | start | iterations | first picture (s) | converged picture
 print("|---|---|---|---|---|---|")
 for m in d["moves"]:
     f = lambda x: "—" if x is None else f"{x:.3f}"
-    print(f"| {m['value']:.3f} | {m['stored']} | {f(m['start'])} | {m['iterations']} | {f(m['first_picture_s'])} | {f(m['converged_picture_s'])} |")
+    b = m.get("between")
+    start = f"{b[0]:.3f}–{b[1]:.3f}" if b else f(m['start'])
+    print(f"| {m['value']:.3f} | {m['stored']} | {start} | {m['iterations']} | {f(m['first_picture_s'])} | {f(m['converged_picture_s'])} |")
 PY
     exit 0
 fi

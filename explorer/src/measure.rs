@@ -80,6 +80,8 @@ struct MoveRecord {
     iterations: Option<usize>,
     /// Friction of the state it started from.
     start: Option<f64>,
+    /// The two stored friction values whose interpolated states it started from.
+    between: Option<(f64, f64)>,
 }
 
 /// The measurement in progress.
@@ -241,6 +243,7 @@ impl Measure {
                 m.report_latency_s = latency;
                 m.iterations = Some(report.iterations);
                 m.start = report.start;
+                m.between = report.between;
                 m.stored = report.from_store;
             }
         }
@@ -291,6 +294,7 @@ impl Measure {
                     report_latency_s: None,
                     iterations: None,
                     start: None,
+                    between: None,
                 });
                 self.move_start = Some(Instant::now());
                 self.settle = SETTLE_FRAMES;

@@ -106,6 +106,9 @@ pub struct SolveReport {
     /// The friction coefficient of the state it started from (a stored configuration or the
     /// newest state), or, with `from_store`, of the one shown; None: cold.
     pub start: Option<f64>,
+    /// The two stored friction values whose states, interpolated, it started from (`start` is
+    /// then the nearer of them).
+    pub between: Option<(f64, f64)>,
     /// Whether the value was stored already and is shown without solving (0 iterations).
     pub from_store: bool,
     /// Wall time of the solve (without post-processing), seconds.

@@ -46,12 +46,18 @@ struct Running {
     origin: Origin,
     params: Params,
     run: SolveRun,
-    /// The friction value of the state it started from.
+    /// The friction value of the state it started from (between two, the nearer).
     start: Option<f64>,
+    /// The two stored friction values whose interpolated states it started from.
+    between: Option<(f64, f64)>,
     started: Instant,
     last_live: Instant,
     iterations: Vec<IterationRecord>,
 }
+
+/// A start from the library: the state, the friction value it is (the nearer of two) and, for
+/// an interpolation, the two values it lies between.
+type StoredStart = (InterfaceState, f64, Option<(f64, f64)>);
 
 /// The newest solution the user asked for.
 struct Current {
@@ -342,8 +348,9 @@ impl Service {
         self.start_run(Origin::User(generation), params);
     }
 
-    /// Starts a solve for `params`, warm from the nearest stored configuration or from the
-    /// user's newest state, whichever is nearer in friction (the newest state on a tie).
+    /// Starts a solve for `params`, warm from the interpolation of the two stored configurations
+    /// around its friction value, else from the nearest stored one, or from the user's newest
+    /// state where that is strictly nearer (on a tie with a single stored one, the newest).
     fn start_run(&mut self, origin: Origin, params: Params) {
         let background = origin == Origin::Background;
         if let Err(e) = params.apply(&self.applied, &mut self.solver) {
@@ -358,18 +365,29 @@ impl Service {
             (Some(a), Some(b)) => (a - b).abs(),
             _ => f64::INFINITY,
         };
-        let nearest = params.friction.and_then(|v| self.library.nearest(v));
         let newest = self.current.as_ref();
-        let stored: Option<(InterfaceState, f64)> = match nearest {
-            Some((_, v)) if newest.is_some_and(|c| gap(Some(v)) >= gap(c.params.friction)) => None,
-            Some((i, v)) => self.library.state(i).map(|s| (s, v)),
-            None => None,
+        let newest_gap = newest.map_or(f64::INFINITY, |c| gap(c.params.friction));
+        let between = params.friction.and_then(|v| self.library.between(v));
+        let nearest = params.friction.and_then(|v| self.library.nearest(v));
+        let stored: Option<StoredStart> = match (between, nearest) {
+            (Some((s, (lo, hi))), _) if gap(Some(lo)).min(gap(Some(hi))) <= newest_gap => {
+                let near = if gap(Some(lo)) <= gap(Some(hi)) {
+                    lo
+                } else {
+                    hi
+                };
+                Some((s, near, Some((lo, hi))))
+            }
+            (_, Some((_, v))) if gap(Some(v)) >= newest_gap => None,
+            (_, Some((i, v))) => self.library.state(i).map(|s| (s, v, None)),
+            (_, None) => None,
         };
-        let (state, start) = match &stored {
-            Some((s, v)) => (Some(s), Some(*v)),
+        let (state, start, between) = match &stored {
+            Some((s, v, b)) => (Some(s), Some(*v), *b),
             None => (
                 newest.map(|c| &c.solution.state),
                 newest.and_then(|c| c.params.friction),
+                None,
             ),
         };
         match self.solver.begin(state) {
@@ -379,6 +397,7 @@ impl Service {
                     params,
                     run,
                     start,
+                    between,
                     started: Instant::now(),
                     last_live: Instant::now(),
                     iterations: Vec::new(),
@@ -410,6 +429,7 @@ impl Service {
             cancelled: false,
             warm: true,
             start: params.friction,
+            between: None,
             from_store: true,
             solve_s: started.elapsed().as_secs_f64(),
             stages: self.solver.counters().stage_times(),
@@ -508,6 +528,7 @@ impl Service {
             cancelled: sol.cancelled,
             warm,
             start: r.start,
+            between: r.between,
             from_store: false,
             solve_s,
             stages: self.solver.counters().stage_times(),

@@ -29,7 +29,7 @@ pub enum SolveStatus {
         eta: f64,
     },
     /// The newest solve ended.
-    Done(SolveReport),
+    Done(Box<SolveReport>),
     /// Something failed.
     Failed(String),
 }
@@ -250,7 +250,7 @@ impl SolveView {
                         self.last_latency = self.change_time.map(|t| t.elapsed().as_secs_f64());
                     }
                     cache.solve_finished(&mut self.worker);
-                    self.status = SolveStatus::Done(report.clone());
+                    self.status = SolveStatus::Done(Box::new(report.clone()));
                 }
                 if let Some(m) = measure {
                     m.on_finished(&report, self.last_latency);

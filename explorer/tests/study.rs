@@ -1,8 +1,9 @@
 //! The explorer's background study (issue 20): while the user is idle the worker solves the
 //! friction grid nearest-first and stores every converged configuration, whose picture and
 //! state equal a cold solve's within the sweep bound 30·tol; a request for a stored value is
-//! answered without solving; one between stored values starts warm from the nearest stored
-//! state in fewer iterations than cold; a user change cancels the background configuration;
+//! answered without solving; one between two stored values starts warm from their states'
+//! interpolation in fewer iterations than from the nearer alone, one beyond them from the
+//! nearest, each in fewer than cold; a user change cancels the background configuration;
 //! the difference field of two stored pictures matches the difference of two cold solutions;
 //! the pinned configuration is pictured at a new displayed step at once, paused or not.
 //! The desktop's solver thread and the browser's inline mode are both checked where they differ.
@@ -280,29 +281,74 @@ fn stored_value_shown_without_solving(spawn: Spawn) {
         .any(|e| matches!(e, Event::Fields(f) if !f.live && f.generation == g)));
 }
 
+/// A warm solve of two-blocks at friction `f` from `start`: its iterations.
+fn warm_iterations(
+    problem: &lopin_core::Problem,
+    settings: Settings,
+    f: f64,
+    start: &lopin_core::state::InterfaceState,
+) -> usize {
+    let mut p = problem.clone();
+    Parameter::Friction.apply(&mut p, f).expect("f");
+    let mut solver = Solver::new(p, settings).expect("solver");
+    let sol = solver.solve(Some(start)).expect("warm solve");
+    assert!(sol.converged);
+    sol.iterations
+}
+
 #[test]
-fn a_value_between_stored_ones_starts_from_the_nearest_stored_state_in_fewer_iterations() {
+fn a_value_between_stored_ones_starts_from_their_interpolation_in_fewer_iterations() {
     let (problem, settings) = two_blocks();
     let (mut worker, mut params, mut events) = session(inline, 0.0);
     // 0.30 (the scene's), then 0.25, 0.35, 0.20, 0.40 …
     store_then_pause(&mut worker, &mut events, 5);
-    // from 0.30 the user's newest state is 0.30; 0.385 is nearest the stored 0.40
-    let target = 0.385;
-    params.friction = Some(target);
-    let g = worker.solve(params.clone());
-    let mut after = Vec::new();
-    collect(
-        &mut worker,
-        &mut after,
-        |e| matches!(e, Event::Finished(r) if r.generation == g),
+    let mut solve = |target: f64| {
+        params.friction = Some(target);
+        let g = worker.solve(params.clone());
+        let mut after = Vec::new();
+        collect(
+            &mut worker,
+            &mut after,
+            |e| matches!(e, Event::Finished(r) if r.generation == g),
+        );
+        let r = report(&after, g);
+        assert!(r.converged && r.warm && !r.from_store, "{r:?}");
+        // the converged value is stored too
+        collect(
+            &mut worker,
+            &mut after,
+            |e| matches!(e, Event::Stored(c) if (c.value - target).abs() < 1e-12),
+        );
+        r
+    };
+    // 0.27 lies between the stored 0.25 and 0.30 (the user's newest state, 0.30, is farther
+    // than 0.25): the two states interpolated, 0.4 of the way from 0.25
+    let target = 0.27;
+    let r = solve(target);
+    assert_eq!(r.between, Some((0.25, 0.30)), "{r:?}");
+    assert!((r.start.expect("warm") - 0.25).abs() < 1e-12, "{r:?}");
+    let (_, c) = cold(&problem, settings, target);
+    let (_, near) = cold(&problem, settings, 0.25);
+    let from_nearest = warm_iterations(&problem, settings, target, &near.state);
+    eprintln!(
+        "f = {target}: {} iterations from the interpolation of 0.25 and 0.30, {from_nearest} \
+         from 0.25 alone, {} cold",
+        r.iterations, c.iterations
     );
-    let r = report(&after, g);
-    assert!(r.converged && r.warm && !r.from_store, "{r:?}");
-    let start = r.start.expect("a warm start");
-    assert!((start - 0.4).abs() < 1e-9, "started from {start}");
+    assert!(
+        r.iterations < from_nearest && from_nearest < c.iterations,
+        "{} vs {from_nearest} vs {}",
+        r.iterations,
+        c.iterations
+    );
+    // 0.415 is above every stored value: from the nearest, 0.40, alone
+    let target = 0.415;
+    let r = solve(target);
+    assert_eq!(r.between, None, "{r:?}");
+    assert!((r.start.expect("warm") - 0.4).abs() < 1e-12, "{r:?}");
     let (_, c) = cold(&problem, settings, target);
     eprintln!(
-        "f = {target}: warm from the stored 0.40 in {} iterations, cold {}",
+        "f = {target}: {} iterations from the stored 0.40, {} cold",
         r.iterations, c.iterations
     );
     assert!(
@@ -310,12 +356,6 @@ fn a_value_between_stored_ones_starts_from_the_nearest_stored_state_in_fewer_ite
         "{} vs {}",
         r.iterations,
         c.iterations
-    );
-    // the converged value is stored too
-    collect(
-        &mut worker,
-        &mut after,
-        |e| matches!(e, Event::Stored(c) if (c.value - target).abs() < 1e-12),
     );
 }
 

@@ -164,6 +164,22 @@ impl StateStore {
         Some(out)
     }
 
+    /// (1 − t) s_j + t s_k in f64: on the segment between two stored configurations, the
+    /// point a fraction t of the way from j to k. Stored states are admissible and admissibility
+    /// is affine (the linear stage's loads and initial state are shared, METHOD §4), so the
+    /// interpolation is admissible too; between two values of a parameter that enters only the
+    /// interface laws it is a start of second order in the bracket's width.
+    pub fn between(&self, j: usize, k: usize, t: f64) -> Option<InterfaceState> {
+        let mut out = self.state(j)?;
+        let sk = self.state(k)?;
+        for (o, a) in out.subs.iter_mut().zip(&sk.subs) {
+            for (x, y) in o.f.iter_mut().zip(&a.f).chain(o.w.iter_mut().zip(&a.w)) {
+                *x += t * (y - *x);
+            }
+        }
+        Some(out)
+    }
+
     /// Scaled distance from stored configuration `index` to `point`.
     pub fn distance_to(&self, index: usize, point: &[f64]) -> Option<f64> {
         let e = self.entries.iter().find(|e| e.index == index)?;
@@ -218,6 +234,33 @@ mod tests {
         assert!(!back.subs[1].is_present() && back.subs[1].len == 3);
         assert_eq!(store.bytes(), 2 * (12 * 4 + 16 + 32));
         assert!(store.state(5).is_none());
+    }
+
+    #[test]
+    fn between_interpolates_every_stored_trace_and_keeps_absent_ones_absent() {
+        let state = |x: f64| InterfaceState {
+            steps: 1,
+            subs: vec![
+                TraceHistory {
+                    len: 1,
+                    f: vec![x, 2.0 * x],
+                    w: vec![-x, 0.5],
+                },
+                TraceHistory::absent(2),
+            ],
+        };
+        let mut store = StateStore::default();
+        store.insert(0, &[0.1], &state(1.0));
+        store.insert(1, &[0.2], &state(3.0));
+        let s = store.between(0, 1, 0.25).expect("both stored");
+        assert_eq!(s.subs[0].f, vec![1.5, 3.0]);
+        assert_eq!(s.subs[0].w, vec![-1.5, 0.5]);
+        assert!(!s.subs[1].is_present());
+        assert_eq!(
+            store.between(1, 0, 0.0).expect("stored").subs[0].f,
+            vec![3.0, 6.0]
+        );
+        assert!(store.between(0, 7, 0.5).is_none());
     }
 
     #[test]
