@@ -367,16 +367,18 @@ impl Service {
         };
         let newest = self.current.as_ref();
         let newest_gap = newest.map_or(f64::INFINITY, |c| gap(c.params.friction));
-        let between = params.friction.and_then(|v| self.library.between(v));
+        let bracket = params.friction.and_then(|v| self.library.bracket(v));
         let nearest = params.friction.and_then(|v| self.library.nearest(v));
-        let stored: Option<StoredStart> = match (between, nearest) {
-            (Some((s, (lo, hi))), _) if gap(Some(lo)).min(gap(Some(hi))) <= newest_gap => {
+        let stored: Option<StoredStart> = match (bracket, nearest) {
+            (Some(((_, lo), (_, hi))), _) if gap(Some(lo)).min(gap(Some(hi))) <= newest_gap => {
                 let near = if gap(Some(lo)) <= gap(Some(hi)) {
                     lo
                 } else {
                     hi
                 };
-                Some((s, near, Some((lo, hi))))
+                // the state is interpolated only once it is chosen
+                let between = params.friction.and_then(|v| self.library.between(v));
+                between.map(|(s, b)| (s, near, Some(b)))
             }
             (_, Some((_, v))) if gap(Some(v)) >= newest_gap => None,
             (_, Some((i, v))) => self.library.state(i).map(|s| (s, v, None)),
