@@ -54,6 +54,19 @@ fn collect(worker: &mut Worker, seen: &mut Vec<Event>, until: impl Fn(&Event) ->
     }
 }
 
+/// Asks the worker to solve `params` and collects its events up to that solve's report:
+/// (the request's generation, the events).
+fn solve_until_report(worker: &mut Worker, params: &Params) -> (u64, Vec<Event>) {
+    let g = worker.solve(params.clone());
+    let mut events = Vec::new();
+    collect(
+        worker,
+        &mut events,
+        |e| matches!(e, Event::Finished(r) if r.generation == g),
+    );
+    (g, events)
+}
+
 fn report(events: &[Event], generation: u64) -> SolveReport {
     events
         .iter()
@@ -74,18 +87,29 @@ fn stored(events: &[Event]) -> Vec<Arc<StoredConfig>> {
         .collect()
 }
 
+/// A solve of two-blocks at friction `f` from `start` (None: cold): the solver and its
+/// converged solution.
+fn solve_at(
+    problem: &lopin_core::Problem,
+    settings: Settings,
+    f: f64,
+    start: Option<&lopin_core::state::InterfaceState>,
+) -> (Solver, lopin_core::Solution) {
+    let mut p = problem.clone();
+    Parameter::Friction.apply(&mut p, f).expect("f");
+    let mut solver = Solver::new(p, settings).expect("solver");
+    let sol = solver.solve(start).expect("solve");
+    assert!(sol.converged);
+    (solver, sol)
+}
+
 /// A cold solve of two-blocks at friction `f`: the solver and its solution.
 fn cold(
     problem: &lopin_core::Problem,
     settings: Settings,
     f: f64,
 ) -> (Solver, lopin_core::Solution) {
-    let mut p = problem.clone();
-    Parameter::Friction.apply(&mut p, f).expect("f");
-    let mut solver = Solver::new(p, settings).expect("solver");
-    let sol = solver.solve(None).expect("cold solve");
-    assert!(sol.converged);
-    (solver, sol)
+    solve_at(problem, settings, f, None)
 }
 
 fn max_abs(v: impl Iterator<Item = f64>) -> f64 {
@@ -136,13 +160,7 @@ fn session(spawn: Spawn, idle_s: f64) -> (Worker, Params, Vec<Event>) {
         ..StudyControl::default()
     });
     let params = Params::of(&problem, &settings);
-    let g = worker.solve(params.clone());
-    let mut events = Vec::new();
-    collect(
-        &mut worker,
-        &mut events,
-        |e| matches!(e, Event::Finished(r) if r.generation == g),
-    );
+    let (_, events) = solve_until_report(&mut worker, &params);
     (worker, params, events)
 }
 
@@ -256,13 +274,7 @@ fn stored_value_shown_without_solving(spawn: Spawn) {
     store_then_pause(&mut worker, &mut events, 3);
     let values: Vec<f64> = stored(&events).iter().map(|c| c.value).collect();
     params.friction = Some(values[2]);
-    let g = worker.solve(params.clone());
-    let mut after = Vec::new();
-    collect(
-        &mut worker,
-        &mut after,
-        |e| matches!(e, Event::Finished(r) if r.generation == g),
-    );
+    let (g, after) = solve_until_report(&mut worker, &params);
     let r = report(&after, g);
     assert!(
         r.from_store && r.converged && r.warm && r.iterations == 0,
@@ -281,21 +293,6 @@ fn stored_value_shown_without_solving(spawn: Spawn) {
         .any(|e| matches!(e, Event::Fields(f) if !f.live && f.generation == g)));
 }
 
-/// A warm solve of two-blocks at friction `f` from `start`: its iterations.
-fn warm_iterations(
-    problem: &lopin_core::Problem,
-    settings: Settings,
-    f: f64,
-    start: &lopin_core::state::InterfaceState,
-) -> usize {
-    let mut p = problem.clone();
-    Parameter::Friction.apply(&mut p, f).expect("f");
-    let mut solver = Solver::new(p, settings).expect("solver");
-    let sol = solver.solve(Some(start)).expect("warm solve");
-    assert!(sol.converged);
-    sol.iterations
-}
-
 #[test]
 fn a_value_between_stored_ones_starts_from_their_interpolation_in_fewer_iterations() {
     let (problem, settings) = two_blocks();
@@ -304,13 +301,7 @@ fn a_value_between_stored_ones_starts_from_their_interpolation_in_fewer_iteratio
     store_then_pause(&mut worker, &mut events, 5);
     let mut solve = |target: f64| {
         params.friction = Some(target);
-        let g = worker.solve(params.clone());
-        let mut after = Vec::new();
-        collect(
-            &mut worker,
-            &mut after,
-            |e| matches!(e, Event::Finished(r) if r.generation == g),
-        );
+        let (g, mut after) = solve_until_report(&mut worker, &params);
         let r = report(&after, g);
         assert!(r.converged && r.warm && !r.from_store, "{r:?}");
         // the converged value is stored too
@@ -329,7 +320,9 @@ fn a_value_between_stored_ones_starts_from_their_interpolation_in_fewer_iteratio
     assert!((r.start.expect("warm") - 0.25).abs() < 1e-12, "{r:?}");
     let (_, c) = cold(&problem, settings, target);
     let (_, near) = cold(&problem, settings, 0.25);
-    let from_nearest = warm_iterations(&problem, settings, target, &near.state);
+    let from_nearest = solve_at(&problem, settings, target, Some(&near.state))
+        .1
+        .iterations;
     eprintln!(
         "f = {target}: {} iterations from the interpolation of 0.25 and 0.30, {from_nearest} \
          from 0.25 alone, {} cold",
