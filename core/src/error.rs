@@ -103,6 +103,45 @@ pub enum LopinError {
     },
 }
 
+/// Longest field name and reason a scene or setting error carries: input quoted in a message
+/// (a value, a line of the file) is cut there, however long the input.
+const FIELD_CHARS: usize = 160;
+const REASON_CHARS: usize = 1000;
+
+/// `text` cut to its first `max` characters, with an ellipsis and the full length where it was
+/// cut (error messages quote user input; a megabyte-long line must not come back whole).
+pub fn clip(text: &str, max: usize) -> String {
+    match text.char_indices().nth(max) {
+        Some((end, _)) => format!("{}… ({} characters)", &text[..end], text.chars().count()),
+        None => text.to_string(),
+    }
+}
+
+/// `message` with every piece quoted between backticks or double quotes cut to `max`
+/// characters ([`clip`]): a parser's message quotes the input, the rest of it is its own.
+pub fn clip_quoted(message: &str, max: usize) -> String {
+    let mut out = String::with_capacity(message.len().min(4 * max));
+    let mut rest = message;
+    while let Some(open) = rest.find(['`', '"']) {
+        let quote = &rest[open..=open];
+        out.push_str(&rest[..=open]);
+        rest = &rest[open + 1..];
+        match rest.find(quote) {
+            Some(close) => {
+                out.push_str(&clip(&rest[..close], max));
+                out.push_str(quote);
+                rest = &rest[close + 1..];
+            }
+            None => {
+                out.push_str(&clip(rest, max));
+                rest = "";
+            }
+        }
+    }
+    out.push_str(rest);
+    out
+}
+
 /// "SOURCE: " before a message, or nothing when no source is known.
 fn source_prefix(source: &str) -> String {
     if source.is_empty() {
@@ -139,17 +178,17 @@ impl LopinError {
     /// Shorthand for a [`LopinError::Scene`] error.
     pub fn scene(source_name: &str, field: impl Into<String>, reason: impl Into<String>) -> Self {
         LopinError::Scene {
-            source_name: source_name.to_string(),
-            field: field.into(),
-            reason: reason.into(),
+            source_name: clip(source_name, FIELD_CHARS),
+            field: clip(&field.into(), FIELD_CHARS),
+            reason: clip(&reason.into(), REASON_CHARS),
         }
     }
 
     /// Shorthand for a [`LopinError::Setting`] error.
     pub fn setting(field: &str, reason: impl Into<String>) -> Self {
         LopinError::Setting {
-            field: field.to_string(),
-            reason: reason.into(),
+            field: clip(field, FIELD_CHARS),
+            reason: clip(&reason.into(), REASON_CHARS),
         }
     }
 }

@@ -1,4 +1,4 @@
-//! Polyhedral grains (issue 17): the seed paper's granular material, N seeded, non-overlapping
+//! Polyhedral grains: the seed paper's granular material, N seeded, non-overlapping
 //! random convex polyhedral grains inside a cube of matrix ([`place_grains`]), and the Gmsh
 //! `.geo` script that builds the cube and the grains, fragments them so that every grain shares
 //! conforming surfaces with the matrix, and names the physical groups ([`geo_script`]).
@@ -86,8 +86,60 @@ impl Polyhedron {
 /// Placement tries per grain before [`place_grains`] gives up.
 const TRIES_PER_GRAIN: usize = 10_000;
 
+/// Placement tries of a whole sample before [`place_grains`] gives up, however many grains.
+const MAX_TRIES: usize = 2_000_000;
+
+/// Grain indices bucketed by the cube of side `h` their centre lies in.
+struct NeighbourGrid {
+    h: f64,
+    cells: HashMap<[i64; 3], Vec<usize>>,
+}
+
+impl NeighbourGrid {
+    fn new(h: f64) -> Self {
+        Self {
+            h,
+            cells: HashMap::new(),
+        }
+    }
+
+    fn key(&self, p: Vec3) -> [i64; 3] {
+        // `as` saturates: far-off centres share the outermost cells, which only adds candidates
+        p.map(|x| (x / self.h).floor() as i64)
+    }
+
+    fn insert(&mut self, p: Vec3, index: usize) {
+        let key = self.key(p);
+        self.cells.entry(key).or_default().push(index);
+    }
+
+    /// The grains whose centre lies within `h` of `p` (and perhaps a few farther), in
+    /// increasing order.
+    fn around(&self, p: Vec3) -> Vec<usize> {
+        let [i, j, k] = self.key(p);
+        let mut out = Vec::new();
+        for di in -1..=1i64 {
+            for dj in -1..=1i64 {
+                for dk in -1..=1i64 {
+                    let key = [
+                        i.saturating_add(di),
+                        j.saturating_add(dj),
+                        k.saturating_add(dk),
+                    ];
+                    if let Some(list) = self.cells.get(&key) {
+                        out.extend_from_slice(list);
+                    }
+                }
+            }
+        }
+        out.sort_unstable();
+        out.dedup();
+        out
+    }
+}
+
 /// Places the grains: Err(reason) when N grains cannot be placed after a bounded number of tries
-/// (10 000 × N; the reason says how many were placed), or when the parameters are invalid
+/// (10 000 × N, at most 2 000 000; the reason says how many were placed), or when the parameters are invalid
 /// (non-positive side, radius not positive or radius[0] > radius[1], vertices < 6, no grains,
 /// gap not positive, or 2 (radius[1] + gap) > side).
 ///
@@ -130,26 +182,32 @@ pub fn place_grains(layout: &GrainLayout) -> Result<Vec<Polyhedron>, String> {
     }
     let eps = selection_eps(layout);
     let mut rng = SplitMix64(layout.seed);
-    let mut grains: Vec<Polyhedron> = Vec::with_capacity(n);
+    let mut grains: Vec<Polyhedron> = Vec::with_capacity(n.min(1024));
+    // grains that can conflict have centres closer than 2 r1 + gap: a grid of that spacing
+    // finds them among the 27 cells around a centre
+    let mut near = NeighbourGrid::new(2.0 * r1 + gap + 2.0 * eps);
+    let most_tries = TRIES_PER_GRAIN.saturating_mul(n).min(MAX_TRIES);
     let mut tries = 0;
-    while grains.len() < n && tries < TRIES_PER_GRAIN * n {
+    while grains.len() < n && tries < most_tries {
         tries += 1;
         let r = r0 + (r1 - r0) * rng.unit();
         let lo = r + gap;
         let centre = [0; 3].map(|_| lo + (side - 2.0 * lo) * rng.unit());
-        if grains
+        let around = near.around(centre);
+        if around
             .iter()
-            .any(|g| norm(sub(g.centre, centre)) < g.radius + r + gap)
+            .any(|&g| norm(sub(grains[g].centre, centre)) < grains[g].radius + r + gap)
         {
             continue;
         }
         let Some(new) = random_polyhedron(&mut rng, centre, r, vertices) else {
             continue;
         };
-        if grains
-            .iter()
-            .all(|g| !box_holds(g, &new, eps) && !box_holds(&new, g, eps))
-        {
+        if around.iter().all(|&g| {
+            let g = &grains[g];
+            !box_holds(g, &new, eps) && !box_holds(&new, g, eps)
+        }) {
+            near.insert(centre, grains.len());
             grains.push(new);
         }
     }

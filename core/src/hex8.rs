@@ -148,6 +148,13 @@ pub fn lumped_mass(x: &[Vec3; 8], mat: &Material) -> [f64; 8] {
     m
 }
 
+/// The Jacobian determinant at each of the eight corners (the reference cube's vertices, in the
+/// node order): all positive for a valid element; a twisted or folded hexahedron has a corner
+/// where it is not, even when its volume is positive.
+pub fn corner_jacobians(x: &[Vec3; 8]) -> [f64; 8] {
+    std::array::from_fn(|a| gradients(x, XI[a]).2)
+}
+
 /// Element volume.
 pub fn volume(x: &[Vec3; 8]) -> f64 {
     gauss_points().map(|p| gradients(x, p).2).sum()

@@ -1,4 +1,4 @@
-//! Gmsh MSH 4.1 input (issue 17), ASCII and binary, through the `mshio` crate for entities,
+//! Gmsh MSH 4.1 input, ASCII and binary, through the `mshio` crate for entities,
 //! nodes and elements, and a reader of its own for the `$PhysicalNames` section (which `mshio`
 //! skips). What Lopin keeps: the nodes, the volume cells (linear tetrahedra and hexahedra, in
 //! Gmsh's node order, which is that of [`crate::tet4`] and [`crate::hex8`]), the surface facets
@@ -8,6 +8,9 @@
 //! the file and what is wrong: a missing file, MSH 2.2 or another version, a truncated or
 //! malformed section (with its byte offset), a node an element uses that the file lacks, a
 //! physical name a scene asks for that the file does not define (with the names it does).
+//!
+//! The `$MeshFormat` header (version, file type, data size) is checked here before `mshio` sees
+//! the file, and a panic inside `mshio` is contained and reported as a malformed file.
 //!
 //! Node tags: `mshio` keeps them only where a file's tags are sparse; where they are
 //! contiguous (what Gmsh writes) the nodes are numbered from the smallest tag in block order.
@@ -108,7 +111,8 @@ fn bad(source: &str, reason: impl Into<String>) -> LopinError {
     }
 }
 
-/// The version of the `$MeshFormat` header, checked to be 4.1.
+/// The `$MeshFormat` header, checked before the file reaches `mshio`: version 4.1, file type 0
+/// (ASCII) or 1 (binary), data size 4 or 8 (the bytes of a `size_t`).
 fn check_version(bytes: &[u8], source: &str) -> Result<()> {
     let text = String::from_utf8_lossy(&bytes[..bytes.len().min(256)]);
     let mut lines = text.lines().map(str::trim);
@@ -118,24 +122,119 @@ fn check_version(bytes: &[u8], source: &str) -> Result<()> {
             "not a Gmsh mesh: the file does not start with `$MeshFormat`",
         ));
     }
-    let version = lines
-        .next()
-        .and_then(|l| l.split_whitespace().next())
-        .unwrap_or("");
+    let header = lines.next().unwrap_or("");
+    let mut fields = header.split_whitespace();
+    let version = fields.next().unwrap_or("");
     match version {
-        "4.1" => Ok(()),
-        "2.2" | "2.1" | "2" | "4" | "4.0" => Err(bad(
+        "4.1" => {}
+        "2.2" | "2.1" | "2" | "4" | "4.0" => {
+            return Err(bad(
+                source,
+                format!(
+                    "MSH version {version} is not read; Lopin reads MSH 4.1 (what gmsh 4 writes \
+                     by default; in gmsh: `Mesh.MshFileVersion = 4.1;` or `gmsh -format msh41`)"
+                ),
+            ))
+        }
+        other => {
+            return Err(bad(
+                source,
+                format!(
+                    "unknown MSH version `{}` in `$MeshFormat`; Lopin reads MSH 4.1",
+                    clipped(other)
+                ),
+            ))
+        }
+    }
+    let file_type = fields.next().unwrap_or("");
+    if file_type != "0" && file_type != "1" {
+        return Err(bad(
             source,
             format!(
-                "MSH version {version} is not read; Lopin reads MSH 4.1 (what gmsh 4 writes by \
-                 default; in gmsh: `Mesh.MshFileVersion = 4.1;` or `gmsh -format msh41`)"
+                "`$MeshFormat`: file type `{}` is neither 0 (ASCII) nor 1 (binary)",
+                clipped(file_type)
             ),
-        )),
-        other => Err(bad(
-            source,
-            format!("unknown MSH version `{other}` in `$MeshFormat`; Lopin reads MSH 4.1"),
-        )),
+        ));
     }
+    let data_size = fields.next().unwrap_or("");
+    if data_size != "4" && data_size != "8" {
+        return Err(bad(
+            source,
+            format!(
+                "`$MeshFormat`: data size `{}` is not 4 or 8 (the bytes of a size_t; gmsh \
+                 writes 8)",
+                clipped(data_size)
+            ),
+        ));
+    }
+    if let Some(extra) = fields.next() {
+        return Err(bad(
+            source,
+            format!(
+                "`$MeshFormat`: unexpected `{}` after the data size",
+                clipped(extra)
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// A piece of the input quoted in an error, cut to 40 characters.
+fn clipped(text: &str) -> String {
+    crate::error::clip(text, 40)
+}
+
+/// Checks hexahedron `id`: a positive volume and a positive Jacobian at every corner (a twisted
+/// or folded element can have a positive volume and still map part of itself inside out).
+fn check_hexahedron(x: &[Vec3; 8], id: usize, source: &str) -> Result<()> {
+    let order = "Gmsh's node order: the bottom face counter-clockwise seen from the top, then the \
+                 top face";
+    let bad_element = |reason: String| LopinError::BadElement {
+        source_name: source.to_string(),
+        element: id,
+        reason,
+    };
+    let v = crate::hex8::volume(x);
+    if v.is_nan() || v <= 0.0 {
+        return Err(bad_element(format!(
+            "inverted or degenerate hexahedron: volume {v:.3e} m³ ({order})"
+        )));
+    }
+    let corners = crate::hex8::corner_jacobians(x);
+    if let Some((corner, det)) = corners
+        .iter()
+        .copied()
+        .enumerate()
+        .find(|(_, det)| det.is_nan() || *det <= 0.0)
+    {
+        return Err(bad_element(format!(
+            "twisted hexahedron: its Jacobian is {det:.3e} at its node {} (local numbering from \
+             1) though its volume {v:.3e} m³ is positive; every corner must be convex ({order})",
+            corner + 1
+        )));
+    }
+    Ok(())
+}
+
+/// Refuses a volume cell whose nodes an earlier cell already has (a duplicated element would
+/// count its mass and stiffness twice).
+fn check_unique(
+    seen: &mut HashMap<Vec<usize>, usize>,
+    nodes: &[usize],
+    id: usize,
+    source: &str,
+) -> Result<()> {
+    if let Some(first) = seen.insert(sorted(nodes.iter().copied()), id) {
+        return Err(LopinError::BadElement {
+            source_name: source.to_string(),
+            element: id,
+            reason: format!(
+                "it has the same nodes as element {first}: a duplicated element would count its \
+                 mass and stiffness twice"
+            ),
+        });
+    }
+    Ok(())
 }
 
 /// The `$PhysicalNames` section (written as text in ASCII and binary files alike):
@@ -197,10 +296,15 @@ fn physical_names(bytes: &[u8], source: &str) -> Result<BTreeMap<(i32, i32), Str
     Ok(names)
 }
 
-/// What `mshio` reported, with the byte offset where it happened.
+/// What `mshio` reported, with the byte offset where it happened and what the file holds there. Where `mshio` kept only its inner parser's errors, the first of them locates
+/// the fault.
 fn parser_error(e: &mshio::MshParserError<&[u8]>, total: usize, source: &str) -> LopinError {
     let trace = e.filtered_backtrace();
-    let offset = trace.first().map_or(0, |(rest, _)| total - rest.len());
+    let rest = trace
+        .first()
+        .map(|(rest, _)| *rest)
+        .or_else(|| e.backtrace.first().map(|(rest, _)| *rest));
+    let offset = rest.map_or(0, |rest| total - rest.len());
     let mut context: Vec<String> = trace
         .iter()
         .skip(1)
@@ -210,16 +314,21 @@ fn parser_error(e: &mshio::MshParserError<&[u8]>, total: usize, source: &str) ->
     context.dedup();
     let what = trace
         .first()
-        .map_or("unknown error".to_string(), |(_, k)| k.to_string());
-    let truncated = if offset >= total {
-        " (the file ends there: truncated?)"
-    } else {
-        ""
+        .map_or_else(|| "unexpected content".to_string(), |(_, k)| k.to_string());
+    let place = match rest {
+        Some(rest) if !rest.is_empty() => {
+            let end = rest.iter().position(|&b| b == b'\n').unwrap_or(rest.len());
+            format!(
+                " near `{}`",
+                clipped(String::from_utf8_lossy(&rest[..end]).trim())
+            )
+        }
+        _ => " (the file ends there: truncated?)".to_string(),
     };
     bad(
         source,
         format!(
-            "malformed MSH 4.1 at byte {offset} of {total}{truncated}: {what}{}",
+            "malformed MSH 4.1 at byte {offset} of {total}{place}: {what}{}",
             if context.is_empty() {
                 String::new()
             } else {
@@ -227,6 +336,30 @@ fn parser_error(e: &mshio::MshParserError<&[u8]>, total: usize, source: &str) ->
             }
         ),
     )
+}
+
+/// `mshio`'s parse with any panic inside it contained: a file that makes the third-party parser
+/// fail an internal assertion is reported as malformed, never a crash.
+fn parse_contained(bytes: &[u8], source: &str) -> Result<mshio::MshFile<u64, i32, f64>> {
+    match std::panic::catch_unwind(|| mshio::parse_msh_bytes(bytes)) {
+        Ok(Ok(file)) => Ok(file),
+        Ok(Err(e)) => Err(parser_error(&e, bytes.len(), source)),
+        Err(panic) => {
+            let why = panic
+                .downcast_ref::<String>()
+                .map(String::as_str)
+                .or_else(|| panic.downcast_ref::<&str>().copied())
+                .unwrap_or("internal error");
+            Err(bad(
+                source,
+                format!(
+                    "malformed MSH 4.1: the Gmsh reader gave up ({}); check the file's sections \
+                     against the MSH 4.1 format",
+                    clipped(why)
+                ),
+            ))
+        }
+    }
 }
 
 /// Parses the bytes of an MSH 4.1 file; `source` names it in errors.
@@ -243,7 +376,7 @@ pub fn parse(bytes: &[u8], source: &str) -> Result<MshMesh> {
         ));
     }
     let names = physical_names(bytes, source)?;
-    let file = mshio::parse_msh_bytes(bytes).map_err(|e| parser_error(&e, bytes.len(), source))?;
+    let file = parse_contained(bytes, source)?;
     let data = file.data;
 
     // nodes, by tag
@@ -316,6 +449,7 @@ pub fn parse(bytes: &[u8], source: &str) -> Result<MshMesh> {
         .ok_or_else(|| bad(source, "the file has no `$Elements` section"))?;
     let mut cells = Vec::new();
     let mut facets = Vec::new();
+    let mut cell_of_nodes: HashMap<Vec<usize>, usize> = HashMap::new();
     for block in &element_section.element_blocks {
         let kind = block.element_type;
         for e in &block.elements {
@@ -337,6 +471,7 @@ pub fn parse(bytes: &[u8], source: &str) -> Result<MshMesh> {
                 ElementType::Tet4 => {
                     let n = [idx[0], idx[1], idx[2], idx[3]];
                     crate::tet4::check(&n.map(|i| nodes[i]), id, source)?;
+                    check_unique(&mut cell_of_nodes, &n, id, source)?;
                     cells.push(Cell {
                         id,
                         nodes: Element::Tet4(n),
@@ -345,16 +480,8 @@ pub fn parse(bytes: &[u8], source: &str) -> Result<MshMesh> {
                 }
                 ElementType::Hex8 => {
                     let n: [usize; 8] = std::array::from_fn(|a| idx[a]);
-                    let v = crate::hex8::volume(&n.map(|i| nodes[i]));
-                    if v.is_nan() || v <= 0.0 {
-                        return Err(LopinError::BadElement {
-                            source_name: source.to_string(),
-                            element: id,
-                            reason: format!(
-                                "inverted or degenerate hexahedron: volume {v:.3e} m³ (Gmsh's node order: the bottom face counter-clockwise seen from the top, then the top face)"
-                            ),
-                        });
-                    }
+                    check_hexahedron(&n.map(|i| nodes[i]), id, source)?;
+                    check_unique(&mut cell_of_nodes, &n, id, source)?;
                     cells.push(Cell {
                         id,
                         nodes: Element::Hex8(n),

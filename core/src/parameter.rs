@@ -54,14 +54,18 @@ impl Parameter {
         }
     }
 
-    /// Checks a value: f and gap finite and non-negative, v0 finite. The error names the
-    /// setting the way the solver's setters always have (`friction`, `gap`, `v0`).
+    /// Checks a value: f non-negative and in the friction range of scenes
+    /// ([`crate::scene::validate::FRICTION_RANGE`]), gap finite and non-negative, v0 finite. The
+    /// error names the setting the way the solver's setters always have (`friction`, `gap`,
+    /// `v0`).
     pub fn check(&self, value: f64) -> Result<()> {
         match self {
             Self::Friction if !(value.is_finite() && value >= 0.0) => Err(LopinError::setting(
                 "friction",
                 format!("must be non-negative, got {value}"),
             )),
+            Self::Friction => crate::scene::validate::check_friction(value)
+                .map_err(|reason| LopinError::setting("friction", reason)),
             Self::Gap if !(value.is_finite() && value >= 0.0) => Err(LopinError::setting(
                 "gap",
                 format!("must be non-negative, got {value}"),

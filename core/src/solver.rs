@@ -367,11 +367,11 @@ fn factorize(
             return Ok(None);
         }
         let sub = &problem.subs[classes.representatives[c]];
-        CholeskyFactor::new(sub.ndof(), &sub.operator_triplets(&time, k))
+        CholeskyFactor::try_new(sub.ndof(), &sub.operator_triplets(&time, k))
             .map(Some)
-            .map_err(|reason| LopinError::Factorization {
+            .map_err(|failure| LopinError::Factorization {
                 sub: sub.name.clone(),
-                reason,
+                reason: sub.describe_failure(&failure),
             })
     })
     .into_iter()

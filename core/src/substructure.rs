@@ -7,6 +7,7 @@ use std::sync::Arc;
 
 use faer::sparse::Triplet;
 
+use crate::factor::FactorFailure;
 use crate::hex8;
 use crate::material::Material;
 use crate::mesh::{Element, Mesh, Vec3};
@@ -68,6 +69,39 @@ impl StiffnessCache {
 }
 
 impl Substructure {
+    /// What a failed factorization of S means for this substructure: the body, the node and
+    /// component of the unknown whose pivot was not positive, where it lies and the elements
+    /// around it (numbered from 0 in the substructure's mesh), and the mass and stiffness on it.
+    pub fn describe_failure(&self, failure: &FactorFailure) -> String {
+        let Some(dof) = failure.dof.filter(|&d| d < self.ndof()) else {
+            return format!("{} (body `{}`)", failure.reason, self.body);
+        };
+        let (node, component) = (dof / 3, ["x", "y", "z"][dof % 3]);
+        let elements: Vec<String> = self
+            .mesh
+            .elements
+            .iter()
+            .enumerate()
+            .filter(|(_, e)| e.nodes().contains(&node))
+            .take(8)
+            .map(|(i, _)| i.to_string())
+            .collect();
+        let x = self.mesh.nodes.get(node).copied().unwrap_or([f64::NAN; 3]);
+        format!(
+            "{} at node {node} ({:.6e}, {:.6e}, {:.6e}) of body `{}`, component {component}, in \
+             element{} {} (lumped mass {:e} kg): check the material and the shape of the \
+             elements there",
+            failure.reason,
+            x[0],
+            x[1],
+            x[2],
+            self.body,
+            if elements.len() == 1 { "" } else { "s" },
+            elements.join(", "),
+            self.mass.get(dof).copied().unwrap_or(f64::NAN),
+        )
+    }
+
     /// Assembles M (lumped) and K of a mesh made of one material.
     pub fn assemble(
         name: String,

@@ -107,6 +107,12 @@ fn bad_tables_are_errors_naming_the_field_before_meshing() {
             "grains = 10",
             "grains = 100000",
             "granular_poly.grains",
+            "at most 500",
+        ),
+        (
+            "grains = 10",
+            "grains = 400",
+            "granular_poly.grains",
             "cannot fit",
         ),
         (
@@ -125,7 +131,7 @@ fn bad_tables_are_errors_naming_the_field_before_meshing() {
             "vertices = 12",
             "vertices = 1000",
             "granular_poly.vertices",
-            "at most 64",
+            "at most 24",
         ),
         (
             "mesh_size = 0.006",
@@ -149,7 +155,7 @@ fn bad_tables_are_errors_naming_the_field_before_meshing() {
             "friction = 0.3",
             "friction = -1.0",
             "granular_poly.friction",
-            "≥ 0",
+            "lies in [0, 10]",
         ),
         (
             "matrix_substructures = 8",

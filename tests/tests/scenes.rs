@@ -562,7 +562,7 @@ fn malformed_granular_files_get_clear_errors() {
             "negative friction",
             good.replace("friction = 0.3", "friction = -0.3"),
             "granular.friction",
-            "non-negative",
+            "lies in [0, 10]",
         ),
     ];
     assert_clear_errors(&good, &cases, "lopin-bad-granular");

@@ -13,6 +13,7 @@ use std::collections::HashMap;
 
 use crate::error::{LopinError, Result};
 use crate::scene::build::face_of;
+use crate::scene::face_index::FaceIndex;
 use crate::scene::spec::{InterfaceKind, SceneSpec};
 
 /// Bytes per double.
@@ -201,7 +202,17 @@ pub fn parse_bytes(text: &str) -> Option<u64> {
 /// allocated: the sizes are counted with checked arithmetic (a count that does not fit is an
 /// error naming the fields), the memory compared with [`machine_memory`]. Returns the footprint.
 pub fn admit(spec: &SceneSpec, source: &str, shape: SolveShape) -> Result<Footprint> {
-    let fp = footprint(spec, source, shape)?;
+    admit_with_meshes(spec, source, shape, &[])
+}
+
+/// [`admit`] with the meshes of the scene's mesh bodies counted, once they are read.
+pub fn admit_with_meshes(
+    spec: &SceneSpec,
+    source: &str,
+    shape: SolveShape,
+    meshes: &[MeshSize],
+) -> Result<Footprint> {
+    let fp = footprint_with_meshes(spec, source, shape, meshes)?;
     let Some(budget) = machine_memory()? else {
         return Ok(fp);
     };
@@ -273,11 +284,34 @@ struct PieceGroup {
     div: [u128; 3],
     /// Distinct factorizations the group is expected to need.
     classes: u128,
+    /// Whether the group stores a stiffness matrix of its own (false: it shares that of an
+    /// earlier group of the same mesh and material).
+    own_stiffness: bool,
 }
 
 /// The sizes and memory of a solve of `spec` in `shape`, from the scene alone (checked
 /// arithmetic; a count that overflows is an error naming the fields).
 pub fn footprint(spec: &SceneSpec, source: &str, shape: SolveShape) -> Result<Footprint> {
+    footprint_with_meshes(spec, source, shape, &[])
+}
+
+/// The size of a mesh body's mesh as read from its file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MeshSize {
+    /// Nodes.
+    pub nodes: usize,
+    /// Substructures the body is cut into.
+    pub substructures: usize,
+}
+
+/// [`footprint`] with the mesh bodies' meshes counted (without them, a scene's mesh bodies
+/// count nothing: their sizes are known once their files are read).
+pub fn footprint_with_meshes(
+    spec: &SceneSpec,
+    source: &str,
+    shape: SolveShape,
+    meshes: &[MeshSize],
+) -> Result<Footprint> {
     let overflow = |field: &str| {
         LopinError::scene(
             source,
@@ -289,7 +323,12 @@ pub fn footprint(spec: &SceneSpec, source: &str, shape: SolveShape) -> Result<Fo
     let (groups, trace) = match (&spec.granular, &spec.granular_poly) {
         (Some(g), _) => granular_pieces(g).ok_or_else(|| overflow("granular"))?,
         (None, Some(g)) => polyhedral_pieces(g).ok_or_else(|| overflow("granular_poly"))?,
-        (None, None) => body_pieces(spec).ok_or_else(|| overflow("body"))?,
+        (None, None) => {
+            let (mut groups, trace) = body_pieces(spec).ok_or_else(|| overflow("body"))?;
+            let (more, more_trace) = mesh_pieces(meshes).ok_or_else(|| overflow("mesh_body"))?;
+            groups.extend(more);
+            (groups, trace.saturating_add(more_trace))
+        }
     };
     let fit = |x: u128, field: &str| usize::try_from(x).map_err(|_| overflow(field));
     let field = if spec.granular.is_some() {
@@ -370,7 +409,7 @@ fn group_sizes(g: &PieceGroup) -> Option<GroupSizes> {
     // linear-stage work and window-start vectors (13 per dof) per substructure
     let nnz = product(g.div.map(|d| d.saturating_mul(3).saturating_add(1)))?.checked_mul(9)?;
     let operator_bytes = nnz
-        .saturating_mul(2 * F64)
+        .saturating_mul(if g.own_stiffness { 2 * F64 } else { 0 })
         .saturating_add(g.count.saturating_mul(ndof).saturating_mul(13 * F64));
     // the factor of S per expected distinct factorization: a band of the two smallest node
     // layers, or the n^(4/3) growth of nested dissection on large 3D meshes (35 n^(4/3): 19.8 M
@@ -428,11 +467,13 @@ fn granular_pieces(g: &crate::scene::granular::GranularSpec) -> Option<(Vec<Piec
             count: cells - grain_cells,
             div,
             classes: (cells - grain_cells).min(27),
+            own_stiffness: true,
         },
         PieceGroup {
             count: grain_cells,
             div,
             classes: grain_cells.min(27),
+            own_stiffness: true,
         },
     ];
     Some((groups, trace))
@@ -466,9 +507,39 @@ fn polyhedral_pieces(
         count: pieces,
         div: [m; 3],
         classes: pieces,
+        own_stiffness: true,
     }];
     Some((groups, trace))
 }
+
+/// The substructures of mesh bodies as read: each body's nodes shared out equally among its
+/// substructures, each counted as a cube of hexahedra holding its share (the operators and
+/// factors of a tetrahedral mesh are no larger than those of a hexahedral one with as many
+/// nodes), every face an interface side as for polyhedral samples. None on overflow.
+fn mesh_pieces(meshes: &[MeshSize]) -> Option<(Vec<PieceGroup>, u128)> {
+    let mut groups = Vec::with_capacity(meshes.len());
+    let mut trace = 0u128;
+    for m in meshes {
+        let pieces = m.substructures.max(1) as u128;
+        let per_piece = (m.nodes as f64 / pieces as f64).max(8.0);
+        let div = (per_piece.cbrt() - 1.0).round().max(1.0) as u128;
+        trace = trace.checked_add(
+            pieces
+                .checked_mul(9)?
+                .checked_mul((div + 1).checked_mul(div + 1)?)?,
+        )?;
+        groups.push(PieceGroup {
+            count: pieces,
+            div: [div; 3],
+            classes: pieces,
+            own_stiffness: true,
+        });
+    }
+    Some((groups, trace))
+}
+
+/// A box face: its axis and whether it is the upper one.
+type FaceKey = (usize, bool);
 
 /// The substructures of listed bodies: each body cut into split[0]·split[1]·split[2] equal
 /// boxes; trace entries of the cuts (both sides), of the boundary conditions (one per prescribed
@@ -491,6 +562,22 @@ fn body_pieces(spec: &SceneSpec) -> Option<(Vec<PieceGroup>, u128)> {
         ) {
             rules.insert((a.min(b), a.max(b)), (it.kind, it.search.unwrap_or(0.0)));
         }
+    }
+    let faces = FaceIndex::new(&spec.bodies);
+    let mut shared = HashMap::new();
+    let search = rules.values().fold(0.0f64, |m, r| m.max(r.1));
+    // prescribed components per body face
+    let face_key = |f: &str| face_of(f).map(|(a, s)| (a, s > 0.0));
+    let mut prescribed: HashMap<(&str, Option<FaceKey>), u128> = HashMap::new();
+    for bc in &spec.boundaries {
+        let components = if bc.clamped {
+            3
+        } else {
+            [&bc.x, &bc.y, &bc.z].iter().filter(|c| c.is_some()).count() as u128
+        };
+        *prescribed
+            .entry((bc.body.as_str(), face_key(&bc.face)))
+            .or_default() += components;
     }
     for (i, b) in spec.bodies.iter().enumerate() {
         let split = b.split.map(|x| x.max(1) as u128);
@@ -519,37 +606,48 @@ fn body_pieces(spec: &SceneSpec) -> Option<(Vec<PieceGroup>, u128)> {
                     (2, false) => "z-",
                     _ => "z+",
                 };
-                let components: u128 = spec
-                    .boundaries
-                    .iter()
-                    .filter(|bc| bc.body == b.name && face_of(&bc.face) == face_of(name))
-                    .map(|bc| {
-                        if bc.clamped {
-                            3
-                        } else {
-                            [&bc.x, &bc.y, &bc.z].iter().filter(|c| c.is_some()).count() as u128
-                        }
-                    })
-                    .sum();
-                let touched = touched_fraction(spec, &rules, i, a, sign);
+                let components = prescribed
+                    .get(&(b.name.as_str(), face_key(name)))
+                    .copied()
+                    .unwrap_or(0);
+                let touched = touched_fraction(spec, &rules, &faces, search, i, a, sign);
                 let sides = components as f64 + 3.0 * touched;
                 trace = trace.checked_add((body_face_nodes as f64 * sides).ceil() as u128)?;
             }
         }
+        // bodies of one mesh (divisions and extents) and material share their stiffness and,
+        // up to the 27 positions a piece can take among its neighbours, their factorizations
+        let key = (
+            b.divisions,
+            b.split,
+            // extents to a relative 1e-6: cells of a grid differ in their last bits
+            std::array::from_fn::<i64, 3, _>(|a| {
+                ((b.max[a] - b.min[a]).log2() * 1e6).round() as i64
+            }),
+            b.material.as_str(),
+        );
+        let used = shared.entry(key).or_insert(0u128);
+        let classes = count.min(27).min(27 - *used);
+        let own_stiffness = *used == 0;
+        *used += classes;
         groups.push(PieceGroup {
             count,
             div,
-            classes: count.min(27),
+            classes,
+            own_stiffness,
         });
     }
     Some((groups, trace))
 }
 
 /// The fraction of body `i`'s face (axis `a`, outward `sign`) that other bodies touch (or face
-/// across a contact search distance), at most 1.
+/// across a contact search distance, at most `search`), at most 1; the other bodies are taken
+/// from the face index, in increasing order.
 fn touched_fraction(
     spec: &SceneSpec,
     rules: &HashMap<(usize, usize), (InterfaceKind, f64)>,
+    faces: &FaceIndex,
+    search: f64,
     i: usize,
     a: usize,
     sign: f64,
@@ -560,11 +658,17 @@ fn touched_fraction(
     let area = (b.max[u] - b.min[u]) * (b.max[v] - b.min[v]);
     let size = (0..3).map(|c| b.max[c] - b.min[c]).fold(0.0, f64::max);
     let tol = 1e-6 * size;
+    let (below, above) = if sign > 0.0 {
+        (tol, search.max(0.0) + tol)
+    } else {
+        (search.max(0.0) + tol, tol)
+    };
     let mut touched = 0.0;
-    for (j, o) in spec.bodies.iter().enumerate() {
+    for j in faces.near(b, a, sign, below, above) {
         if j == i {
             continue;
         }
+        let o = &spec.bodies[j];
         let (kind, search) = rules
             .get(&(i.min(j), i.max(j)))
             .copied()

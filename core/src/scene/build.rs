@@ -11,6 +11,7 @@ use crate::interface::Interface;
 use crate::material::Material;
 use crate::mesh::{Mesh, Vec3};
 use crate::problem::{NamedMaterial, Problem};
+use crate::scene::admission::{self, MeshSize, SolveShape};
 use crate::scene::granular;
 use crate::scene::granular_poly;
 use crate::scene::mesh_bodies;
@@ -143,9 +144,22 @@ pub fn build(spec: &SceneSpec, source: &str) -> Result<Problem> {
         })
         .collect();
     // bodies from Gmsh files: one substructure each, or the parts the partitioner cuts
-    // (issue 17); per mesh body and substructure, the file node of each of its nodes
+    // per mesh body and substructure, the file node of each of its nodes
     let mut meshes = mesh_bodies::read(spec, source)?;
     let bodies = std::mem::take(&mut meshes.bodies);
+    if !bodies.is_empty() {
+        // the mesh bodies' sizes are known now: admitted before anything is assembled
+        let sizes: Vec<MeshSize> = spec
+            .mesh_bodies
+            .iter()
+            .zip(&bodies)
+            .map(|(b, (mesh, _))| MeshSize {
+                nodes: mesh.nodes.len(),
+                substructures: b.substructures.unwrap_or(1),
+            })
+            .collect();
+        admission::admit_with_meshes(spec, source, SolveShape::smallest(), &sizes)?;
+    }
     let measured: Vec<(&str, Material, &Mesh)> = spec
         .mesh_bodies
         .iter()

@@ -15,6 +15,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::error::{LopinError, Result};
+use crate::scene::cell_set::CellSet;
 use crate::scene::spec::{
     BodySpec, BoundarySpec, ComponentSpec, InterfaceKind, InterfaceSpec, SceneSpec,
 };
@@ -240,6 +241,15 @@ pub fn validate(spec: &SceneSpec, source: &str) -> Result<()> {
         );
     }
     let cells = g.cell_count();
+    if hi > cells {
+        return err(
+            "granular.grain_cells",
+            format!(
+                "a grain of up to {hi} cells cannot fit in the grid's {cells} cells: at most \
+                 {cells}"
+            ),
+        );
+    }
     if g.grains.checked_mul(lo).is_none_or(|n| n > cells) {
         return err(
             "granular.grains",
@@ -264,11 +274,8 @@ pub fn validate(spec: &SceneSpec, source: &str) -> Result<()> {
             return err(field, format!("no material named `{name}`"));
         }
     }
-    if !(g.friction.is_finite() && g.friction >= 0.0) {
-        return err(
-            "granular.friction",
-            format!("must be a non-negative number, got {}", g.friction),
-        );
+    if let Err(reason) = crate::scene::validate::check_friction(g.friction) {
+        return err("granular.friction", reason);
     }
     if !g.velocity.is_finite() {
         return err(
@@ -276,8 +283,8 @@ pub fn validate(spec: &SceneSpec, source: &str) -> Result<()> {
             format!("must be finite, got {}", g.velocity),
         );
     }
-    if g.ramp_steps == 0 {
-        return err("granular.ramp_steps", "must be at least 1 step".into());
+    if let Err(reason) = check_ramp_steps(g.ramp_steps, spec.time.steps) {
+        return err("granular.ramp_steps", reason);
     }
     if g.requested_split != 1 {
         return err(
@@ -292,6 +299,44 @@ pub fn validate(spec: &SceneSpec, source: &str) -> Result<()> {
     Ok(())
 }
 
+/// Checks a generator's ramp length against the run: at least one step, and no longer than the
+/// run (a ramp the run never finishes leaves the load at a fraction of V₀, or never starts it).
+pub(crate) fn check_ramp_steps(ramp_steps: usize, steps: usize) -> std::result::Result<(), String> {
+    if ramp_steps == 0 {
+        return Err("must be at least 1 step".into());
+    }
+    if ramp_steps > steps {
+        return Err(format!(
+            "a ramp of {ramp_steps} steps is longer than the run's {steps} steps (time.steps): \
+             the load would never reach its velocity; at most {steps}"
+        ));
+    }
+    Ok(())
+}
+
+/// A grain growing inside the free cells: the cells it may take next (its free face neighbours)
+/// and those it holds, with every cell ever put on the frontier (to clear it afterwards).
+struct Growth<'a> {
+    free: &'a CellSet,
+    frontier: &'a mut CellSet,
+    in_grain: &'a mut [bool],
+    touched: &'a mut Vec<usize>,
+}
+
+impl Growth<'_> {
+    /// Cell `c` joins the grain; its free neighbours outside it join the frontier.
+    fn take(&mut self, layout: &Layout, c: usize) {
+        self.in_grain[c] = true;
+        self.frontier.remove(c);
+        for d in layout.neighbours(c) {
+            if self.free.contains(d) && !self.in_grain[d] && !self.frontier.contains(d) {
+                self.frontier.insert(d);
+                self.touched.push(d);
+            }
+        }
+    }
+}
+
 /// Places the grains of a validated table: one by one, a random free cell grown to a random size
 /// in `grain_cells` by adding random face-adjacent free cells, where a cell is free when neither
 /// it nor a face neighbour belongs to an earlier grain (grains never touch: each is embedded in
@@ -302,33 +347,42 @@ pub fn layout(g: &GranularSpec, source: &str) -> Result<Layout> {
     let mut layout = Layout {
         grid: g.grid,
         grain_of: vec![None; cells],
-        grains: Vec::with_capacity(g.grains),
+        grains: Vec::with_capacity(g.grains.min(cells)),
     };
-    // blocked: a grain cell or a face neighbour of one
-    let mut blocked = vec![false; cells];
+    // free: neither a grain cell nor a face neighbour of one
+    let mut free = CellSet::full(cells);
+    // the cells a growing grain may take next, and those it holds
+    let mut frontier = CellSet::empty(cells);
+    let mut in_grain = vec![false; cells];
     let mut rng = SplitMix64(g.seed);
     let [lo, hi] = g.grain_cells;
     for n in 0..g.grains {
         let mut placed = None;
         for _ in 0..ATTEMPTS_PER_GRAIN {
-            let free: Vec<usize> = (0..cells).filter(|&c| !blocked[c]).collect();
             if free.is_empty() {
                 break;
             }
             let size = lo + rng.below(hi - lo + 1);
-            let mut grain = vec![free[rng.below(free.len())]];
-            while grain.len() < size {
-                let mut candidates: Vec<usize> = grain
-                    .iter()
-                    .flat_map(|&c| layout.neighbours(c))
-                    .filter(|&c| !blocked[c] && !grain.contains(&c))
-                    .collect();
-                candidates.sort_unstable();
-                candidates.dedup();
-                if candidates.is_empty() {
-                    break;
-                }
-                grain.push(candidates[rng.below(candidates.len())]);
+            let first = free.nth(rng.below(free.len()));
+            let mut grain = vec![first];
+            let mut touched = Vec::new();
+            let mut grow = Growth {
+                free: &free,
+                frontier: &mut frontier,
+                in_grain: &mut in_grain,
+                touched: &mut touched,
+            };
+            grow.take(&layout, first);
+            while grain.len() < size && !grow.frontier.is_empty() {
+                let c = grow.frontier.nth(rng.below(grow.frontier.len()));
+                grain.push(c);
+                grow.take(&layout, c);
+            }
+            for &c in &touched {
+                frontier.remove(c);
+            }
+            for &c in &grain {
+                in_grain[c] = false;
             }
             if grain.len() == size {
                 placed = Some(grain);
@@ -354,9 +408,9 @@ pub fn layout(g: &GranularSpec, source: &str) -> Result<Layout> {
         };
         for &c in &grain {
             layout.grain_of[c] = Some(n);
-            blocked[c] = true;
+            free.remove(c);
             for d in layout.neighbours(c) {
-                blocked[d] = true;
+                free.remove(d);
             }
         }
         layout.grains.push(grain);
@@ -629,7 +683,7 @@ mod tests {
                 "negative friction",
                 |s| table(s).friction = -0.1,
                 "granular.friction",
-                "non-negative",
+                "lies in [0, 10]",
             ),
             (
                 "no ramp",

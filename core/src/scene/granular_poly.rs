@@ -1,4 +1,4 @@
-//! The seed paper's granular material with polyhedral grains (`[granular_poly]`, issue 17): N
+//! The seed paper's granular material with polyhedral grains (`[granular_poly]`): N
 //! seeded, non-overlapping random convex polyhedra in a cube of matrix
 //! ([`crate::grain_geometry`]), fragmented and meshed with tetrahedra by gmsh (cached by the
 //! generated script, [`crate::gmsh`]), the matrix cut into substructures by the graph
@@ -55,8 +55,16 @@ pub struct GranularPolySpec {
     pub ramp_steps: usize,
 }
 
-/// Most hull points per grain (the hull is found by brute force, O(n⁴)).
-const MAX_VERTICES: usize = 64;
+/// Most hull points per grain (the hull is found by brute force, O(n⁴), and each grain may take
+/// 64 shape attempts per placement try).
+const MAX_VERTICES: usize = 24;
+
+/// Most grains in a sample: gmsh fragments the cube with every grain at once, a cost that grows
+/// faster than the grain count.
+pub const MAX_GRAINS: usize = 500;
+
+/// Physical range of the cube side (m): a laboratory specimen to a large structure.
+const SIDE_RANGE: (f64, f64) = (1e-4, 1e2);
 
 fn default_vertices() -> usize {
     12
@@ -135,6 +143,45 @@ pub fn placed_grains(spec: &SceneSpec, source: &str) -> Result<Vec<Polyhedron>> 
         }
     }
     let positive = |x: f64| x.is_finite() && x > 0.0;
+    if !(g.side.is_finite() && (SIDE_RANGE.0..=SIDE_RANGE.1).contains(&g.side)) {
+        return err(
+            "side",
+            format!(
+                "the cube side lies in [{:e}, {:e}] m, got {:?}",
+                SIDE_RANGE.0, SIDE_RANGE.1, g.side
+            ),
+        );
+    }
+    let finest = 1e-3 * g.side;
+    if !(g.radius[0].is_finite() && g.radius[0] >= finest) {
+        return err(
+            "radius",
+            format!(
+                "a grain's radius is at least 1e-3 of the cube side ({finest:e} m), got {:?}",
+                g.radius[0]
+            ),
+        );
+    }
+    if !(g.gap.is_finite() && g.gap >= 1e-2 * finest) {
+        return err(
+            "gap",
+            format!(
+                "the gap between grains is at least 1e-5 of the cube side ({:e} m), got {:?}",
+                1e-2 * finest,
+                g.gap
+            ),
+        );
+    }
+    if g.grains > MAX_GRAINS {
+        return err(
+            "grains",
+            format!(
+                "at most {MAX_GRAINS} polyhedral grains (gmsh fragments the cube with all of \
+                 them at once), got {}; for more, use a [granular] table of hexahedral cells",
+                g.grains
+            ),
+        );
+    }
     if !positive(g.mesh_size) || g.mesh_size >= g.side {
         return err(
             "mesh_size",
@@ -144,11 +191,33 @@ pub fn placed_grains(spec: &SceneSpec, source: &str) -> Result<Vec<Polyhedron>> 
             ),
         );
     }
-    if !(g.friction.is_finite() && g.friction >= 0.0) {
+    // a grain narrower than one element, or a matrix sliver thinner than a quarter of one, is not
+    // resolved at `mesh_size`: gmsh would refine around it far beyond the mesh admitted here
+    if g.radius[0] < 0.5 * g.mesh_size {
         return err(
-            "friction",
-            format!("must be finite and ≥ 0, got {}", g.friction),
+            "radius",
+            format!(
+                "the smallest grain radius {:?} m is below half the mesh size {:?} m: a grain \
+                 must span at least one element (raise radius[0] or lower mesh_size)",
+                g.radius[0], g.mesh_size
+            ),
         );
+    }
+    if g.gap < 0.25 * g.mesh_size {
+        return err(
+            "gap",
+            format!(
+                "the gap {:?} m is below a quarter of the mesh size {:?} m: the matrix between \
+                 two grains must hold a quarter of an element (raise gap or lower mesh_size)",
+                g.gap, g.mesh_size
+            ),
+        );
+    }
+    if let Err(reason) = crate::scene::validate::check_friction(g.friction) {
+        return err("friction", reason);
+    }
+    if let Err(reason) = crate::scene::granular::check_ramp_steps(g.ramp_steps, spec.time.steps) {
+        return err("ramp_steps", reason);
     }
     if !g.velocity.is_finite() {
         return err("velocity", format!("must be finite, got {}", g.velocity));
@@ -179,17 +248,16 @@ pub fn placed_grains(spec: &SceneSpec, source: &str) -> Result<Vec<Polyhedron>> 
             ),
         );
     }
-    let grains = match place_grains(&g.layout()) {
-        Ok(grains) => grains,
-        Err(reason) => return err("grains", reason),
-    };
-    // counted (from the mesh size) and admitted before anything is meshed
+    // counted (from the mesh size) and admitted before any grain is drawn or meshed
     crate::scene::admission::admit(
         spec,
         source,
         crate::scene::admission::SolveShape::smallest(),
     )?;
-    Ok(grains)
+    match place_grains(&g.layout()) {
+        Ok(grains) => Ok(grains),
+        Err(reason) => err("grains", reason),
+    }
 }
 
 /// Expands the `[granular_poly]` table into the scene it describes: meshes the sample with gmsh

@@ -5,7 +5,9 @@
 
 pub mod admission;
 pub mod build;
+mod cell_set;
 mod exact;
+mod face_index;
 pub mod granular;
 pub mod granular_poly;
 pub mod mesh_bodies;
@@ -23,7 +25,11 @@ pub fn from_toml(text: &str, source: &str) -> Result<SceneSpec> {
             .span()
             .map(|s| field_at(text, s.start))
             .unwrap_or_else(|| "(document)".into());
-        LopinError::scene(source, field, e.message().to_string())
+        LopinError::scene(
+            source,
+            field,
+            crate::error::clip_quoted(e.message(), QUOTED_CHARS),
+        )
     })?;
     build::validate(&spec, source)?;
     Ok(spec)
@@ -67,11 +73,28 @@ pub fn load(name_or_path: &str) -> Result<SceneSpec> {
     })
 }
 
-/// "line L, column C (near `key`)" for a byte offset of a TOML document.
+/// Characters of a TOML line an error quotes, from the error's column on.
+const QUOTED_CHARS: usize = 60;
+
+/// "line L, column C (`text`)" for a byte offset of a TOML document: the line as written from
+/// the column on (all of it when short), cut to [`QUOTED_CHARS`].
 fn field_at(text: &str, offset: usize) -> String {
     let before = text.get(..offset).unwrap_or(text);
     let line = before.matches('\n').count() + 1;
-    let col = before.len() - before.rfind('\n').map_or(0, |p| p + 1) + 1;
-    let line_text = text.lines().nth(line - 1).unwrap_or("").trim();
-    format!("line {line}, column {col} (`{line_text}`)")
+    let start = before.rfind('\n').map_or(0, |p| p + 1);
+    let col = before.chars().count() - text[..start].chars().count() + 1;
+    let line_text = text[start..].lines().next().unwrap_or("");
+    let from_col = if line_text.chars().count() <= QUOTED_CHARS {
+        line_text.trim().to_string()
+    } else {
+        let skip = line_text
+            .chars()
+            .take(col - 1)
+            .map(char::len_utf8)
+            .sum::<usize>();
+        let rest = line_text.get(skip..).unwrap_or(line_text);
+        let mark = if skip > 0 { "…" } else { "" };
+        format!("{mark}{}", crate::error::clip(rest, QUOTED_CHARS))
+    };
+    format!("line {line}, column {col} (`{from_col}`)")
 }

@@ -69,10 +69,29 @@ enum Generated {
 const YOUNG_RANGE: (f64, f64) = (1e-3, 1e13);
 const DENSITY_RANGE: (f64, f64) = (1e-3, 1e5);
 const LENGTH_RANGE: (f64, f64) = (1e-9, 1e5);
+/// Largest ratio of a box body's element edges (longest over shortest).
+const MAX_ASPECT: f64 = 1e3;
 /// The time step relative to the wave transit time of the smallest element, h_min / c_max (the
 /// trapezoidal rule is stable for any Δt; outside this range the time grid is absurd for the
 /// mesh: every wave crosses 10⁴ elements per step, or needs 10⁴ steps to cross one).
 const COURANT_RANGE: (f64, f64) = (1e-4, 1e4);
+
+/// The friction coefficients a contact accepts: measured Coulomb coefficients of engineering
+/// pairs lie below about 1.5 (clean metals in vacuum reach a few); beyond 10 every contact
+/// sticks, and a larger value only slows the iteration (the local stage's slip threshold f·|F_n|
+/// outgrows every tangential force it is compared with).
+pub const FRICTION_RANGE: (f64, f64) = (0.0, 10.0);
+
+/// Checks a friction coefficient against [`FRICTION_RANGE`]; the reason names the range.
+pub fn check_friction(f: f64) -> std::result::Result<(), String> {
+    if f.is_finite() && (FRICTION_RANGE.0..=FRICTION_RANGE.1).contains(&f) {
+        return Ok(());
+    }
+    Err(format!(
+        "a friction coefficient lies in [{}, {}], got {f:?}",
+        FRICTION_RANGE.0, FRICTION_RANGE.1
+    ))
+}
 
 /// The search direction k relative to the impedance scale k0 = mean √(ρE) of the materials in
 /// use (METHOD §10) that a solve accepts (the stress suite converges from 10⁻³ to 10³ k0, slowly
@@ -325,10 +344,30 @@ fn validate_expanded(spec: &SceneSpec, source: &str, generated: Generated) -> Re
                         format!("must be a non-negative number, got {v}"),
                     );
                 }
+                if field == "friction" {
+                    check_friction(v).map_err(|r| {
+                        LopinError::scene(source, format!("interface[{i}].friction"), r)
+                    })?;
+                }
             }
         }
     }
+    let mut boundary_places: HashMap<(&str, &str, Option<&str>), usize> = HashMap::new();
     for (i, bc) in spec.boundaries.iter().enumerate() {
+        let place = (bc.body.as_str(), bc.face.as_str(), bc.surface.as_deref());
+        if let Some(first) = boundary_places.insert(place, i) {
+            return err(
+                format!("boundary[{i}]"),
+                format!(
+                    "repeats boundary[{first}]: both act on {} of `{}`; give each face or \
+                     surface one [[boundary]] entry (its x, y and z components together)",
+                    bc.surface
+                        .as_ref()
+                        .map_or_else(|| format!("face {}", bc.face), |s| format!("surface `{s}`")),
+                    bc.body
+                ),
+            );
+        }
         let Some(&body) = body_index.get(bc.body.as_str()) else {
             return err(
                 format!("boundary[{i}].body"),
@@ -425,6 +464,20 @@ fn check_physics(spec: &SceneSpec, source: &str) -> Result<()> {
             }
             h_min = h_min.min(h);
         }
+        let h: [f64; 3] = std::array::from_fn(|a| (b.max[a] - b.min[a]) / b.divisions[a] as f64);
+        let aspect =
+            h.iter().fold(0.0f64, |m, &x| m.max(x)) / h.iter().fold(f64::MAX, |m, &x| m.min(x));
+        if aspect > MAX_ASPECT {
+            return err(
+                format!("body[{i}].divisions"),
+                format!(
+                    "{:?} hexahedra make elements {aspect:.3e} times longer than wide ({:.3e} × \
+                     {:.3e} × {:.3e} m); Lopin accepts at most {MAX_ASPECT:e} (a trilinear \
+                     element that elongated locks): divide the axes in proportion to the lengths",
+                    b.divisions, h[0], h[1], h[2]
+                ),
+            );
+        }
     }
     let boxes: Vec<_> = spec.bodies.iter().map(|b| (b.min, b.max)).collect();
     let diameter = model_diameter(&boxes);
@@ -458,6 +511,12 @@ fn check_physics(spec: &SceneSpec, source: &str) -> Result<()> {
         for &v in &b.velocity {
             material::check_small_strain_speed(v, slowest)
                 .map_err(|r| LopinError::scene(source, format!("body[{i}].velocity"), r))?;
+        }
+    }
+    for (i, b) in spec.mesh_bodies.iter().enumerate() {
+        for &v in &b.velocity {
+            material::check_small_strain_speed(v, slowest)
+                .map_err(|r| LopinError::scene(source, format!("mesh_body[{i}].velocity"), r))?;
         }
     }
     for (i, bc) in spec.boundaries.iter().enumerate() {
