@@ -104,7 +104,7 @@ fn run_with_refine_that_used_to_wrap_to_1_is_an_error() {
 fn run_that_cannot_fit_is_refused_before_allocating_with_what_would_fit() {
     let stderr = refused(
         &["run", "granular-small"],
-        &[("LOPIN_MEMORY_LIMIT", "16MiB")],
+        &[("LOPIN_MEMORY_LIMIT", "64MiB")],
     );
     for part in [
         "scene granular-small",
@@ -114,6 +114,15 @@ fn run_that_cannot_fit_is_refused_before_allocating_with_what_would_fit() {
     ] {
         assert!(stderr.contains(part), "no `{part}` in {stderr}");
     }
+    // a limit below what the process itself holds says so
+    let stderr = refused(
+        &["run", "granular-small"],
+        &[("LOPIN_MEMORY_LIMIT", "16MiB")],
+    );
+    assert!(
+        stderr.contains("a memory limit above the 32.0 MiB the process itself holds"),
+        "{stderr}"
+    );
     let stderr = refused(&["run", "two-blocks"], &[("LOPIN_MEMORY_LIMIT", "lots")]);
     assert!(
         stderr.contains("LOPIN_MEMORY_LIMIT") && stderr.contains("`lots`"),

@@ -134,6 +134,11 @@ fn study_rows(dir: &Path) -> Vec<String> {
     let text = std::fs::read_to_string(dir.join("study.csv")).expect("study.csv");
     let header: Vec<&str> = text.lines().next().expect("header").split(',').collect();
     let wall = header.iter().position(|&h| h == "wall_s").expect("wall_s");
+    // each row's checksum covers its wall time
+    let sum = header
+        .iter()
+        .position(|&h| h == "checksum")
+        .expect("checksum");
     let mut rows: Vec<(usize, String)> = text
         .lines()
         .skip(1)
@@ -142,7 +147,7 @@ fn study_rows(dir: &Path) -> Vec<String> {
             let kept: Vec<&str> = fields
                 .iter()
                 .enumerate()
-                .filter(|&(k, _)| k != wall)
+                .filter(|&(k, _)| k != wall && k != sum)
                 .map(|(_, f)| *f)
                 .collect();
             (fields[0].parse().expect("index"), kept.join(","))

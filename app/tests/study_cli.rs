@@ -6,9 +6,12 @@
 //! contact face's physical surfaces) writes a column per zone; bad input is refused with a
 //! message naming the option and the reason, before anything is written.
 
+mod study_files;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
+use study_files::parquet_matches_csv;
 
 fn lopin() -> Command {
     Command::new(env!("CARGO_BIN_EXE_lopin"))
@@ -70,42 +73,6 @@ fn column(line: &str, header: &str, name: &str) -> f64 {
         .expect("test value")
         .parse()
         .expect("number")
-}
-
-/// study.parquet holds the rows of study.csv, column by column: the same names and order, the
-/// same numbers (the CSV's text round-trips each f64 exactly), nulls where the CSV is empty.
-fn parquet_matches_csv(dir: &Path) {
-    use parquet::file::reader::{FileReader, SerializedFileReader};
-    use parquet::record::Field;
-    let text = std::fs::read_to_string(dir.join("study.csv")).expect("study.csv");
-    let mut lines = text.lines();
-    let header: Vec<&str> = lines.next().expect("header").split(',').collect();
-    let mut csv: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
-    csv.sort_by_key(|r| r[0].parse::<usize>().expect("index"));
-    let file = std::fs::File::open(dir.join("study.parquet")).expect("study.parquet");
-    let reader = SerializedFileReader::new(file).expect("a Parquet file");
-    let table: Vec<parquet::record::Row> = reader
-        .get_row_iter(None)
-        .expect("rows")
-        .map(|r| r.expect("row"))
-        .collect();
-    assert_eq!(table.len(), csv.len());
-    for (row, line) in table.iter().zip(&csv) {
-        let cells: Vec<(&String, &Field)> = row.get_column_iter().collect();
-        assert_eq!(cells.len(), header.len());
-        for ((name, field), (h, text)) in cells.iter().zip(header.iter().zip(line)) {
-            assert_eq!(name.as_str(), *h);
-            let same = match field {
-                Field::Null => text.is_empty(),
-                Field::Long(x) => text.parse::<i64>() == Ok(*x),
-                Field::Double(x) => text.parse::<f64>() == Ok(*x),
-                Field::Bool(x) => text.parse::<bool>() == Ok(*x),
-                Field::Str(x) => x == text,
-                other => panic!("{h}: unexpected Parquet value {other:?}"),
-            };
-            assert!(same, "{h}: Parquet {field:?} against CSV `{text}`");
-        }
-    }
 }
 
 #[test]

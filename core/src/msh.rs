@@ -85,6 +85,54 @@ pub fn read(path: &Path) -> Result<MshMesh> {
     parse(&bytes, &source)
 }
 
+/// The number of nodes an MSH 4.1 file announces in its `$Nodes` header, read without parsing
+/// the file (admission counts a mesh body from it before the file is read); None when the file
+/// cannot be read or has no such header.
+pub fn announced_nodes(path: &Path) -> Option<u64> {
+    use std::io::Read;
+    let file = std::fs::File::open(path).ok()?;
+    let mut reader = std::io::BufReader::new(file);
+    let mut head = [0u8; 64];
+    let got = reader.read(&mut head).ok()?;
+    let binary = String::from_utf8_lossy(&head[..got])
+        .lines()
+        .nth(1)
+        .and_then(|l| l.split_whitespace().nth(1).map(|t| t == "1"))?;
+    // scan for the section, carrying a tag's length across chunk boundaries
+    let tag = b"$Nodes\n";
+    let mut window: Vec<u8> = head[..got].to_vec();
+    let mut chunk = vec![0u8; 1 << 16];
+    let after = loop {
+        if let Some(at) = window.windows(tag.len()).position(|w| w == tag) {
+            break window.split_off(at + tag.len());
+        }
+        let keep = window.len().saturating_sub(tag.len());
+        window.drain(..keep);
+        let n = reader.read(&mut chunk).ok()?;
+        if n == 0 {
+            return None;
+        }
+        window.extend_from_slice(&chunk[..n]);
+    };
+    let mut rest = after;
+    let mut more = [0u8; 256];
+    while rest.len() < 256 {
+        let n = reader.read(&mut more).ok()?;
+        if n == 0 {
+            break;
+        }
+        rest.extend_from_slice(&more[..n]);
+    }
+    if binary {
+        // numEntityBlocks, numNodes, ... as 8-byte size_t (the header checked says 8 or 4)
+        let bytes: [u8; 8] = rest.get(8..16)?.try_into().ok()?;
+        Some(u64::from_le_bytes(bytes))
+    } else {
+        let line = String::from_utf8_lossy(&rest);
+        line.split_whitespace().nth(1)?.parse().ok()
+    }
+}
+
 /// The facets of a physical surface, each as its sorted file nodes.
 #[derive(Debug, Clone)]
 pub struct SurfaceFacets(std::collections::HashSet<Vec<usize>>);

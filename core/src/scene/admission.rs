@@ -20,6 +20,10 @@ use crate::scene::spec::{InterfaceKind, SceneSpec};
 const F64: u128 = 8;
 /// Bytes per stored factor entry (value and row index).
 const FACTOR_ENTRY: u128 = 16;
+/// Bytes the `lopin` process holds whatever it solves: its code and libraries, the threads'
+/// stacks, the allocator's arenas and the solver's per-step records (the smallest scenes run at
+/// about 24 MiB of resident memory).
+const PROCESS_BYTES: u64 = 32 << 20;
 /// Share of the available memory a solve may plan to use.
 const USABLE: f64 = 0.9;
 /// Environment variable that caps the memory Lopin plans with (bytes, or with a KiB, MiB, GiB
@@ -84,11 +88,23 @@ pub struct Footprint {
     pub factor_bytes: u64,
     /// Estimated bytes of the homogenized operators (two-scale only).
     pub macro_bytes: u64,
+    /// Bytes of the process itself, whatever it solves.
+    pub process_bytes: u64,
+    /// Solves held at once (a study's chains on one process); every part but the process's own
+    /// bytes is held that many times.
+    pub copies: usize,
 }
 
 impl Footprint {
     /// Total bytes.
     pub fn total_bytes(&self) -> u64 {
+        self.solve_bytes()
+            .saturating_mul(self.copies.max(1) as u64)
+            .saturating_add(self.process_bytes)
+    }
+
+    /// Bytes of one solve.
+    pub fn solve_bytes(&self) -> u64 {
         self.interface_bytes
             .saturating_add(self.cache_bytes)
             .saturating_add(self.operator_bytes)
@@ -104,8 +120,9 @@ impl Footprint {
                 self.dofs, self.substructures, self.elements, self.trace_entries, self.steps
             ),
             format!(
-                "memory: interface fields {} + skip cache {} + operators {} + factors about {}{} \
-                 = about {}",
+                "memory: {}interface fields {} + skip cache {} + operators {} + factors about \
+                 {}{}{} + the process {} = about {}",
+                if self.copies > 1 { "(" } else { "" },
                 bytes(self.interface_bytes),
                 bytes(self.cache_bytes),
                 bytes(self.operator_bytes),
@@ -115,6 +132,12 @@ impl Footprint {
                 } else {
                     String::new()
                 },
+                if self.copies > 1 {
+                    format!(") × {} solves at once", self.copies)
+                } else {
+                    String::new()
+                },
+                bytes(self.process_bytes),
                 bytes(self.total_bytes())
             ),
         ]
@@ -213,6 +236,26 @@ pub fn admit_with_meshes(
     meshes: &[MeshSize],
 ) -> Result<Footprint> {
     let fp = footprint_with_meshes(spec, source, shape, meshes)?;
+    fits(spec, source, fp)
+}
+
+/// [`admit`] for `copies` solves held at once by one process (a study's chains): refused, with
+/// how many would fit, when they do not.
+pub fn admit_copies(
+    spec: &SceneSpec,
+    source: &str,
+    shape: SolveShape,
+    copies: usize,
+) -> Result<Footprint> {
+    let fp = Footprint {
+        copies: copies.max(1),
+        ..footprint(spec, source, shape)?
+    };
+    fits(spec, source, fp)
+}
+
+/// `fp` if it fits this machine's memory, else the refusal with what would fit.
+fn fits(spec: &SceneSpec, source: &str, fp: Footprint) -> Result<Footprint> {
     let Some(budget) = machine_memory()? else {
         return Ok(fp);
     };
@@ -233,19 +276,37 @@ pub fn admit_with_meshes(
 /// mesh is coarsened by its `mesh_size`).
 fn remedies(fp: &Footprint, limit: u64, meshed: bool) -> String {
     let mut out = Vec::new();
+    if fp.copies > 1 {
+        let one = fp.solve_bytes().max(1) as u128;
+        let most = (limit as u128).saturating_sub(fp.process_bytes as u128) / one;
+        if most >= 1 {
+            out.push(format!(
+                "fewer solves at once: at most {most} (now {}; `--chains`)",
+                fp.copies
+            ));
+        }
+    }
+    // what one solve may hold: the limit less the process's own bytes, shared by the copies
+    let room = (limit as u128).saturating_sub(fp.process_bytes as u128) / fp.copies.max(1) as u128;
+    if room == 0 {
+        return format!(
+            "a memory limit above the {} the process itself holds",
+            bytes(fp.process_bytes)
+        );
+    }
     let fixed = fp.operator_bytes as u128 + fp.factor_bytes as u128 + fp.macro_bytes as u128;
     let n1 = fp.steps as u128 + 1;
     let per_step = (fp.interface_bytes as u128 + fp.cache_bytes as u128) / n1;
     let smallest_per_step = fp.interface_bytes as u128 / n1;
-    if fp.cache_bytes > 0 && fp.total_bytes() - fp.cache_bytes <= limit {
+    if fp.cache_bytes > 0 && (fp.solve_bytes() - fp.cache_bytes) as u128 <= room {
         out.push(format!(
             "time windows (`--window W` or `solver.window`) drop the skip cache of {}",
             bytes(fp.cache_bytes)
         ));
     }
-    if (limit as u128) > fixed && per_step > 0 {
-        let steps = ((limit as u128 - fixed) / per_step).saturating_sub(1);
-        let steps_windowed = ((limit as u128 - fixed) / smallest_per_step.max(1)).saturating_sub(1);
+    if room > fixed && per_step > 0 {
+        let steps = ((room - fixed) / per_step).saturating_sub(1);
+        let steps_windowed = ((room - fixed) / smallest_per_step.max(1)).saturating_sub(1);
         if steps >= 1 {
             out.push(format!(
                 "fewer steps: `time.steps` at most {} (now {})",
@@ -263,7 +324,7 @@ fn remedies(fp: &Footprint, limit: u64, meshed: bool) -> String {
     let volume = fixed as f64;
     let coarser = (2..=1 << 20).find(|&c| {
         let c = c as f64;
-        surface / (c * c) + volume / (c * c * c) <= limit as f64
+        surface / (c * c) + volume / (c * c * c) <= room as f64
     });
     match coarser {
         Some(c) if meshed => out.push(format!(
@@ -325,6 +386,13 @@ pub fn footprint_with_meshes(
         (None, Some(g)) => polyhedral_pieces(g).ok_or_else(|| overflow("granular_poly"))?,
         (None, None) => {
             let (mut groups, trace) = body_pieces(spec).ok_or_else(|| overflow("body"))?;
+            let announced;
+            let meshes = if meshes.is_empty() {
+                announced = announced_meshes(spec, source);
+                &announced
+            } else {
+                meshes
+            };
             let (more, more_trace) = mesh_pieces(meshes).ok_or_else(|| overflow("mesh_body"))?;
             groups.extend(more);
             (groups, trace.saturating_add(more_trace))
@@ -388,6 +456,8 @@ pub fn footprint_with_meshes(
         operator_bytes: to_u64(operator),
         factor_bytes: to_u64(factor),
         macro_bytes: to_u64(macro_),
+        process_bytes: PROCESS_BYTES,
+        copies: 1,
     })
 }
 
@@ -510,6 +580,32 @@ fn polyhedral_pieces(
         own_stiffness: true,
     }];
     Some((groups, trace))
+}
+
+/// The mesh bodies' sizes before their files are read: each counted with every node its MSH
+/// file announces (a file several bodies share counts whole for each, an upper bound); a
+/// `.geo` script not meshed yet, or a file that cannot be read, counts nothing here (the build
+/// admits the meshes it reads).
+fn announced_meshes(spec: &SceneSpec, source: &str) -> Vec<MeshSize> {
+    #[cfg(feature = "msh")]
+    {
+        spec.mesh_bodies
+            .iter()
+            .filter_map(|b| {
+                let path = crate::scene::mesh_bodies::mesh_path(source, &b.mesh);
+                let nodes = crate::msh::announced_nodes(&path)?;
+                Some(MeshSize {
+                    nodes: usize::try_from(nodes).unwrap_or(usize::MAX),
+                    substructures: b.substructures.unwrap_or(1),
+                })
+            })
+            .collect()
+    }
+    #[cfg(not(feature = "msh"))]
+    {
+        let _ = (spec, source);
+        Vec::new()
+    }
 }
 
 /// The substructures of mesh bodies as read: each body's nodes shared out equally among its

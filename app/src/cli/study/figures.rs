@@ -311,7 +311,17 @@ pub fn histograms(path: &FsPath, outcomes: &[Outcome], stats: &[Statistics]) -> 
             }))
             .map_err(err)?;
         let note = [
-            format!("n {}  mean {:.4e}  sd {:.3e}", s.count, s.mean, s.sd),
+            format!(
+                "n {}{}  mean {:.4e}  sd {:.3e}",
+                s.count,
+                if s.non_finite > 0 {
+                    format!(" (+{} not finite)", s.non_finite)
+                } else {
+                    String::new()
+                },
+                s.mean,
+                s.sd
+            ),
             format!("p5 {:.4e}  p50 {:.4e}  p95 {:.4e}", s.p5, s.p50, s.p95),
         ];
         for (line, text) in note.iter().enumerate() {

@@ -2,10 +2,14 @@
 //! a grid of value lists or samples of distributions ([`lopin_core::study::design`]), each
 //! parameter everywhere or in one zone of the scene (`f@ZONE`), visited along a greedy
 //! nearest-neighbour path cut into `--chains` chains that run at once, each configuration
-//! warm-started from the nearest one its chain solved. Every finished configuration is one row of
-//! `study.csv` at once ([`rows`]); `--resume` keeps every row and solves the rest;
-//! `study.json` holds the plan (parameters, design, order) and the totals; at the end the rows
-//! are also written typed to `study.parquet` ([`parquet_rows`]).
+//! warm-started from the nearest one its chain solved. A parameter is given once, and either
+//! everywhere or per zone (`f` with `f@ZONE` is refused: one would overwrite the other). Every
+//! finished configuration is one row of `study.csv` at once, with its checksum ([`rows`]);
+//! `--resume` keeps every row that passes its checks, says which rows it drops and why, and
+//! solves the rest; `study.json` holds the plan (parameters, design, order) and the totals,
+//! with the statistics of every quantity ([`stats`]: a quantity that is not finite somewhere is
+//! counted and named, and a warning printed); at the end the rows are also written typed to
+//! `study.parquet` ([`parquet_rows`]).
 //!
 //! Under `mpirun -np P` ([`crate::ranks`]) the chains are dealt to the ranks (chain c on rank
 //! c mod P, one chain per rank by default), each rank solving its own on threads with solvers of
@@ -178,6 +182,23 @@ fn setup(args: &StudyArgs, ranks: usize) -> anyhow::Result<Setup> {
         {
             anyhow::bail!("--param {p}: `{}` is given twice", target.label);
         }
+        // the same parameter everywhere and in one zone: whichever is set later would overwrite
+        // the other's value in that zone
+        if let Some((other, _)) = axes.iter().find(|(t, _)| {
+            t.parameter == target.parameter && t.zone.is_some() != target.zone.is_some()
+        }) {
+            let (zoned, global) = if target.zone.is_some() {
+                (&target.label, &other.label)
+            } else {
+                (&other.label, &target.label)
+            };
+            anyhow::bail!(
+                "--param {p}: `{global}` (every interface) and `{zoned}` (one zone) move the same \
+                 parameter in that zone, one value overwriting the other: give `{global}` alone, \
+                 or one `{}@ZONE` per zone",
+                target.parameter.name()
+            );
+        }
         axes.push((target, spread));
     }
     let spreads: Vec<String> = axes.iter().map(|(_, s)| s.describe()).collect();
@@ -214,6 +235,16 @@ fn setup(args: &StudyArgs, ranks: usize) -> anyhow::Result<Setup> {
     }
     let path = Path::greedy(&design.points);
     let chains = Chains::split(&path, count);
+    // each chain on a rank holds a solve of its own at once: admitted together
+    let per_rank = chains.0.len().div_ceil(ranks.max(1));
+    let source = lopin_core::scene::source_label(&args.scene.scene);
+    lopin_core::scene::admission::admit_copies(
+        &built.spec,
+        &source,
+        args.scene.shape(&built.spec),
+        per_rank,
+    )
+    .map_err(anyhow::Error::from)?;
     let whole = settings.window.is_none_or(|w| w >= problem.time.steps);
     let (predictor, predictor_reason) = match args.predictor {
         PredictorArg::Nearest => (Predictor::Nearest, "--predictor nearest"),
@@ -286,7 +317,11 @@ pub fn study(args: &StudyArgs) -> anyhow::Result<ExitCode> {
     } else {
         Ok(None)
     };
-    let opened = crate::ranks::agree(opened)?;
+    let mut opened = crate::ranks::agree(opened)?;
+    // what the resume found wrong with the rows (whatever --json says: on stderr)
+    for line in opened.iter_mut().flat_map(Rows::take_report) {
+        eprintln!("{line}");
+    }
     let mut done: Vec<f64> = (0..design.points.len())
         .map(|i| f64::from(u8::from(opened.as_ref().is_some_and(|r| r.has(i)))))
         .collect();
@@ -391,6 +426,9 @@ pub fn study(args: &StudyArgs) -> anyhow::Result<ExitCode> {
         return ran.map(|_| ExitCode::SUCCESS);
     }
     rows::absorb_ranks(&dir, &mut rows, &plan, &design, true)?;
+    for line in rows.take_report() {
+        eprintln!("{line}");
+    }
     ran?;
     let state_bytes: Vec<usize> = state_bytes.iter().map(|&b| b as usize).collect();
     let outcomes = rows.done();
@@ -411,6 +449,9 @@ pub fn study(args: &StudyArgs) -> anyhow::Result<ExitCode> {
             .flatten(),
         figures: Vec::new(),
     };
+    for line in stats::warnings(&totals.statistics) {
+        eprintln!("{line}");
+    }
     let mut totals = totals;
     let mut by_index = outcomes.to_vec();
     by_index.sort_by_key(|o| o.index);

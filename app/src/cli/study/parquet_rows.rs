@@ -4,7 +4,9 @@
 //! parameters, distances, residuals, η, times and quantities as DOUBLE, `converged` as BOOLEAN,
 //! `start_change` ("k-l", the parallelogram's other two configurations) as a UTF-8 string; a
 //! column the CSV leaves empty on some rows (a cold start's `start`, `cold_iterations` without
-//! `--compare-cold`) is OPTIONAL and null there. One row group, uncompressed.
+//! `--compare-cold`) is OPTIONAL and null there; `checksum`, the row's checksum in the CSV, as
+//! a UTF-8 string. Written from the rows kept after their checks ([`super::rows`]). One row
+//! group, uncompressed.
 
 use std::fs::File;
 use std::path::Path as FsPath;
@@ -18,7 +20,7 @@ use parquet::file::properties::WriterProperties;
 use parquet::file::writer::{SerializedColumnWriter, SerializedFileWriter};
 use parquet::schema::types::Type;
 
-use super::rows::header;
+use super::rows::{header, row};
 
 /// One column's values, None where the row has none.
 enum Column {
@@ -101,6 +103,9 @@ fn columns(design: &Design, outcomes: &[Outcome]) -> Vec<Column> {
     for k in 0..Quantities::NAMES.len() {
         c.push(dbl(&|o| Some(o.quantities.values()[k])));
     }
+    c.push(Column::Text(
+        outcomes.iter().map(|o| row(design, o).pop()).collect(),
+    ));
     c
 }
 

@@ -3,6 +3,12 @@
 //! finite-difference sensitivities along the path (each warm step that moved one parameter), and
 //! for sampled studies the standardized regression coefficients (how much of each quantity's
 //! spread each parameter explains, linearly).
+//!
+//! A quantity that is not finite in some configuration (NaN or ±inf: a solve that broke down)
+//! is left out of that quantity's statistics, and said so: each [`Statistics`] counts those
+//! configurations and names them (`non_finite`, `non_finite_configurations` in `study.json`),
+//! [`warnings`] gives the line the study prints for each such quantity, and the regression has
+//! no coefficient (null) for it rather than one fitted to part of the rows.
 
 use lopin_core::study::runner::Outcome;
 use lopin_core::study::{Design, Quantities};
@@ -11,10 +17,15 @@ use serde::Serialize;
 const NQ: usize = Quantities::NAMES.len();
 
 /// Statistics of one quantity over the finished configurations.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Statistics {
     pub quantity: &'static str,
+    /// Configurations whose value is finite (the ones these statistics are of).
     pub count: usize,
+    /// Configurations whose value is NaN or infinite, left out.
+    pub non_finite: usize,
+    /// Their indices, in increasing order.
+    pub non_finite_configurations: Vec<usize>,
     pub mean: f64,
     /// Sample standard deviation (n − 1).
     pub sd: f64,
@@ -40,7 +51,8 @@ pub fn quantile(sorted: &[f64], q: f64) -> f64 {
     }
 }
 
-/// The statistics of every quantity (non-finite values left out).
+/// The statistics of every quantity over the finite values, counting and naming the
+/// configurations whose value is not finite.
 pub fn statistics(outcomes: &[Outcome]) -> Vec<Statistics> {
     (0..NQ)
         .map(|k| {
@@ -49,6 +61,12 @@ pub fn statistics(outcomes: &[Outcome]) -> Vec<Statistics> {
                 .map(|o| o.quantities.values()[k])
                 .filter(|x| x.is_finite())
                 .collect();
+            let mut non_finite_configurations: Vec<usize> = outcomes
+                .iter()
+                .filter(|o| !o.quantities.values()[k].is_finite())
+                .map(|o| o.index)
+                .collect();
+            non_finite_configurations.sort_unstable();
             v.sort_by(f64::total_cmp);
             let n = v.len();
             let mean = v.iter().sum::<f64>() / n.max(1) as f64;
@@ -57,6 +75,8 @@ pub fn statistics(outcomes: &[Outcome]) -> Vec<Statistics> {
             Statistics {
                 quantity: Quantities::NAMES[k].0,
                 count: n,
+                non_finite: non_finite_configurations.len(),
+                non_finite_configurations,
                 mean: if n > 0 { mean } else { f64::NAN },
                 sd: if n > 1 { var.sqrt() } else { f64::NAN },
                 min: v.first().copied().unwrap_or(f64::NAN),
@@ -67,6 +87,39 @@ pub fn statistics(outcomes: &[Outcome]) -> Vec<Statistics> {
                 p95: quantile(&v, 0.95),
                 max: v.last().copied().unwrap_or(f64::NAN),
             }
+        })
+        .collect()
+}
+
+/// One line per quantity that is not finite in some configuration: which quantity, how many
+/// configurations of how many, which (the first ten), and that they are left out of its
+/// statistics.
+pub fn warnings(statistics: &[Statistics]) -> Vec<String> {
+    const NAMED: usize = 10;
+    statistics
+        .iter()
+        .filter(|s| s.non_finite > 0)
+        .map(|s| {
+            let shown: Vec<String> = s
+                .non_finite_configurations
+                .iter()
+                .take(NAMED)
+                .map(usize::to_string)
+                .collect();
+            let more = s.non_finite.saturating_sub(NAMED);
+            format!(
+                "warning: {} is not finite in {} of {} configurations ({}{}): left out of its \
+                 statistics (study.json: non_finite)",
+                s.quantity,
+                s.non_finite,
+                s.count + s.non_finite,
+                shown.join(", "),
+                if more > 0 {
+                    format!(" and {more} more")
+                } else {
+                    String::new()
+                }
+            )
         })
         .collect()
 }
@@ -155,6 +208,13 @@ pub fn regression(design: &Design, outcomes: &[Outcome]) -> Option<Vec<[f64; NQ]
         let y = |i: usize| outcomes[i].quantities.values()[k];
         let ym = mean(&|i| y(i));
         let ys = mean(&|i| (y(i) - ym).powi(2)).sqrt();
+        if !ys.is_finite() {
+            // a non-finite value in some configuration: no fit ([`warnings`] names them)
+            for row in out.iter_mut() {
+                row[k] = f64::NAN;
+            }
+            continue;
+        }
         let rhs: Vec<f64> = (0..d).map(|p| mean(&|i| z(i, p) * (y(i) - ym))).collect();
         let b = solve(gram.clone(), rhs)?;
         for p in 0..d {
@@ -265,5 +325,56 @@ mod tests {
         assert!((src[1][0] + 1.0 / sq).abs() < 1e-9);
         let st = statistics(&outcomes);
         assert!((st[0].mean - 0.3).abs() < 1e-12);
+        assert!(st.iter().all(|s| s.non_finite == 0));
+        assert!(warnings(&st).is_empty());
+        // a non-finite value: no coefficients for that quantity (null in study.json)
+        let mut broken = outcomes.clone();
+        broken[2].quantities.peak_normal_force = f64::NAN;
+        let src = regression(&design, &broken).expect("fit");
+        assert!(src[0][0].is_nan() && src[1][0].is_nan());
+        assert_eq!(src[0][1], 0.0);
+    }
+
+    #[test]
+    fn study_statistics_report_non_finite_rows() {
+        // peak_normal_force 1 … 6 on configurations 0 … 5, NaN on 6, +inf on 7, −inf on 8
+        let mut outcomes: Vec<Outcome> = (0..6)
+            .map(|i| outcome(i, None, f64::from(i as u8) + 1.0))
+            .collect();
+        outcomes.push(outcome(8, None, f64::NEG_INFINITY));
+        outcomes.push(outcome(6, None, f64::NAN));
+        outcomes.push(outcome(7, None, f64::INFINITY));
+        let st = statistics(&outcomes);
+        let peak = &st[0];
+        assert_eq!(peak.count, 6);
+        assert_eq!(peak.non_finite, 3);
+        assert_eq!(peak.non_finite_configurations, [6, 7, 8]);
+        assert_eq!(
+            (peak.mean, peak.min, peak.max, peak.p50),
+            (3.5, 1.0, 6.0, 3.5)
+        );
+        assert!((peak.sd - 3.5f64.sqrt()).abs() < 1e-12);
+        // the other quantities are 0 everywhere: all counted
+        assert_eq!((st[1].count, st[1].non_finite), (9, 0));
+        assert_eq!(
+            warnings(&st),
+            [
+                "warning: peak_normal_force is not finite in 3 of 9 configurations (6, 7, 8): \
+                 left out of its statistics (study.json: non_finite)"
+            ]
+        );
+        let json = serde_json::to_value(peak).expect("serializes");
+        assert_eq!(json["non_finite"], 3);
+        assert_eq!(
+            json["non_finite_configurations"],
+            serde_json::json!([6, 7, 8])
+        );
+        // only the first ten configurations are named
+        let many: Vec<Outcome> = (0..13).map(|i| outcome(i, None, f64::NAN)).collect();
+        assert_eq!(
+            warnings(&statistics(&many))[0],
+            "warning: peak_normal_force is not finite in 13 of 13 configurations (0, 1, 2, 3, \
+             4, 5, 6, 7, 8, 9 and 3 more): left out of its statistics (study.json: non_finite)"
+        );
     }
 }
