@@ -5,6 +5,7 @@
 
 use std::collections::{BTreeMap, HashMap};
 
+use crate::box_sweep::BoxSweep;
 use crate::error::{LopinError, Result};
 use crate::interface::{BoundaryDof, Contact, Interface, Law, Side};
 use crate::mesh::{dot, norm, sub, Face, Vec3};
@@ -49,10 +50,12 @@ pub fn detect_interfaces(
     subs: &[Substructure],
     rule: &dyn Fn(&str, &str) -> PairRule,
 ) -> Result<Vec<Interface>> {
-    Ok(detect_interfaces_grouped(subs, rule, &|_, _| 0)?
-        .into_iter()
-        .map(|(iface, _)| iface)
-        .collect())
+    Ok(
+        detect_interfaces_grouped(subs, rule, f64::INFINITY, &|_, _| 0)?
+            .into_iter()
+            .map(|(iface, _)| iface)
+            .collect(),
+    )
 }
 
 /// [`detect_interfaces`], with the contact between two substructures split by face groups:
@@ -61,10 +64,12 @@ pub fn detect_interfaces(
 /// (the smaller where both have one); each node pair goes to one group
 /// ([`crate::surface_groups::deal`]), so that the contact's node pairs, areas and normals are
 /// those of the unsplit interface, dealt to one interface per group. Returns each interface
-/// with its group; perfect interfaces are never split.
+/// with its group; perfect interfaces are never split. `search_bound` bounds every contact's
+/// search distance (infinite when unknown): substructures farther apart are never compared.
 pub fn detect_interfaces_grouped(
     subs: &[Substructure],
     rule: &dyn Fn(&str, &str) -> PairRule,
+    search_bound: f64,
     group: &dyn Fn(usize, &Face) -> usize,
 ) -> Result<Vec<(Interface, usize)>> {
     let faces: Vec<Vec<Face>> = subs.iter().map(|s| s.mesh.boundary_faces()).collect();
@@ -135,8 +140,14 @@ pub fn detect_interfaces_grouped(
     // Phase 2: contact faces facing each other across a gap (pairs whose bounding boxes are
     // farther apart than the search distance are skipped before their faces are compared).
     let mut max_search = 0.0f64;
+    let sweep = BoxSweep::new(&boxes);
+    let reach = search_bound.max(0.0) + REL_TOL * diameter;
     for s in 0..subs.len() {
-        for t in s + 1..subs.len() {
+        let (lo, hi) = boxes[s];
+        for t in sweep.meeting(lo[0] - reach, hi[0] + reach) {
+            if t <= s {
+                continue;
+            }
             let PairRule::Contact { search, .. } = pair_rule(s, t) else {
                 continue;
             };
@@ -176,7 +187,9 @@ pub fn detect_interfaces_grouped(
         }
     }
 
-    check_conforming(subs, &boxes, &faces, &matched, &pair_rule, max_search)?;
+    check_conforming(
+        subs, &boxes, &sweep, &faces, &matched, &pair_rule, max_search,
+    )?;
 
     Ok(groups
         .into_iter()
@@ -449,6 +462,7 @@ fn pair_nodes(
 fn check_conforming(
     subs: &[Substructure],
     boxes: &[(Vec3, Vec3)],
+    sweep: &BoxSweep,
     faces: &[Vec<Face>],
     matched: &[Vec<bool>],
     pair_rule: &dyn Fn(usize, usize) -> PairRule,
@@ -460,7 +474,9 @@ fn check_conforming(
                 continue;
             }
             let tol = REL_TOL * face.area.sqrt();
-            for (t, (lo, hi)) in boxes.iter().enumerate() {
+            let c = face.centroid[0];
+            for t in sweep.meeting(c - tol, c + tol) {
+                let (lo, hi) = &boxes[t];
                 if t == s
                     || (0..3)
                         .any(|a| face.centroid[a] < lo[a] - tol || face.centroid[a] > hi[a] + tol)
@@ -485,7 +501,9 @@ fn check_conforming(
             if max_search <= 0.0 {
                 continue;
             }
-            for (t, other_faces) in faces.iter().enumerate() {
+            let (lo, hi) = boxes[s];
+            for t in sweep.meeting(lo[0] - max_search - tol, hi[0] + max_search + tol) {
+                let other_faces = &faces[t];
                 // nearby substructures first (cheap), then their rule
                 if t == s || box_distance(&boxes[s], &boxes[t]) > max_search + tol {
                     continue;

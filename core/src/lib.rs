@@ -21,6 +21,7 @@
 //! ```
 
 pub mod acceleration;
+pub mod box_sweep;
 pub mod counters;
 pub mod dense;
 pub mod detect;

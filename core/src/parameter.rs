@@ -62,17 +62,17 @@ impl Parameter {
         match self {
             Self::Friction if !(value.is_finite() && value >= 0.0) => Err(LopinError::setting(
                 "friction",
-                format!("must be non-negative, got {value}"),
+                format!("must be non-negative, got {value:?}"),
             )),
             Self::Friction => crate::scene::validate::check_friction(value)
                 .map_err(|reason| LopinError::setting("friction", reason)),
             Self::Gap if !(value.is_finite() && value >= 0.0) => Err(LopinError::setting(
                 "gap",
-                format!("must be non-negative, got {value}"),
+                format!("must be non-negative, got {value:?}"),
             )),
             Self::VelocityAmplitude if !value.is_finite() => Err(LopinError::setting(
                 "v0",
-                format!("must be finite, got {value}"),
+                format!("must be finite, got {value:?}"),
             )),
             _ => Ok(()),
         }

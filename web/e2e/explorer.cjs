@@ -10,6 +10,21 @@
 //
 // Writes OUT_DIR/web-first.png, web-after.png, web-section.png, web-time.png,
 // web-side-by-side.png and OUT_DIR/web-e2e.json (timings).
+//
+// The random mode: seeded random use of the page once its first solve converged — clicks on
+// the controls it reports (anywhere on a rail, and past its ends), clicks, drags, double-clicks
+// and wheel turns anywhere below the top bar (which holds the scene picker), orbit and pan drags
+// in the 3D view, text typed (numbers at the extremes, text that is no number) and keys,
+// pauses — at most LOPIN_UI_CLICKS actions (default 300) and LOPIN_UI_SECONDS seconds (default
+// 90). Fails on any console error, page error, failed request or HTTP error, on a page that
+// stops answering, on a solve that breaks down (non-finite values) or ends unconverged, and on
+// a blank 3D view (screenshots every 50 actions and at the end). LOPIN_UI_SEED (decimal or
+// 0x-hexadecimal, default fixed; its low 32 bits) picks the sequence; a failure prints it with
+// the last actions.
+//
+//   node web/e2e/explorer.cjs --random URL OUT_DIR
+//
+// Writes OUT_DIR/web-random.png (the end) and OUT_DIR/web-random.json (every action).
 "use strict";
 const path = require("path");
 const fs = require("fs");
@@ -20,12 +35,14 @@ if (!tools) {
 }
 const { chromium } = require(path.join(tools, "npm/node_modules/playwright-core"));
 
-const [url, outDir, movesArg] = process.argv.slice(2);
+const randomMode = process.argv[2] === "--random";
+const [url, outDir, movesArg] = process.argv.slice(randomMode ? 3 : 2);
 const moves = Number(movesArg || 3);
 // where each move clicks along the friction rail (fractions of its width)
 const FRACTIONS = [0.75, 0.3, 0.55, 0.2, 0.65, 0.4, 0.85, 0.1, 0.5, 0.7];
 const LOAD_TIMEOUT_MS = 180000;
 const RESOLVE_TIMEOUT_MS = 120000;
+const VIEWPORT = { width: 1280, height: 800 };
 
 function fail(msg) {
   throw new Error(msg);
@@ -166,8 +183,8 @@ async function waitConverged(page, generation, timeout) {
   return st;
 }
 
-async function main() {
-  fs.mkdirSync(outDir, { recursive: true });
+// Headless Chromium on SwiftShader.
+async function launch() {
   const browser = await chromium.launch({
     executablePath: "/usr/bin/chromium",
     headless: true,
@@ -183,22 +200,35 @@ async function main() {
       "--enable-unsafe-swiftshader",
     ],
   });
+  return browser;
+}
+
+// A page of the viewport's size; `errors` collects its console errors, page errors, failed
+// requests and HTTP errors.
+async function openPage(browser, errors) {
+  const context = await browser.newContext({
+    viewport: { width: VIEWPORT.width, height: VIEWPORT.height },
+    deviceScaleFactor: 1,
+  });
+  const page = await context.newPage();
+  page.on("console", (m) => {
+    if (m.type() === "error") errors.push(`console: ${m.text()}`);
+  });
+  page.on("pageerror", (e) => errors.push(`page error: ${e.message}`));
+  page.on("requestfailed", (r) => errors.push(`request failed: ${r.url()}`));
+  page.on("response", (r) => {
+    if (r.status() >= 400) errors.push(`HTTP ${r.status()}: ${r.url()}`);
+  });
+  return page;
+}
+
+async function main() {
+  fs.mkdirSync(outDir, { recursive: true });
   const errors = [];
+  const browser = await launch();
   const report = { url, moves: [] };
   try {
-    const context = await browser.newContext({
-      viewport: { width: 1280, height: 800 },
-      deviceScaleFactor: 1,
-    });
-    const page = await context.newPage();
-    page.on("console", (m) => {
-      if (m.type() === "error") errors.push(`console: ${m.text()}`);
-    });
-    page.on("pageerror", (e) => errors.push(`page error: ${e.message}`));
-    page.on("requestfailed", (r) => errors.push(`request failed: ${r.url()}`));
-    page.on("response", (r) => {
-      if (r.status() >= 400) errors.push(`HTTP ${r.status()}: ${r.url()}`);
-    });
+    const page = await openPage(browser, errors);
 
     await page.goto(url, { waitUntil: "load" });
     const first = await waitConverged(page, 1, LOAD_TIMEOUT_MS);
@@ -326,17 +356,188 @@ async function main() {
   return report;
 }
 
-main().then(
-  (r) => {
-    const lat = r.moves.map((m) => m.app_latency_s.toFixed(3)).join(", ");
-    console.log(
-      `web e2e: first frame ${r.first_frame_ms.toFixed(0)} ms, first fields ` +
-        `${r.first_fields_ms.toFixed(0)} ms, first converged ${r.first_converged_ms.toFixed(0)} ms ` +
-        `after navigation; slider -> converged (s): ${lat}; no console errors`
-    );
-  },
-  (e) => {
-    console.error(`web e2e FAILED: ${e.message}`);
-    process.exit(1);
+// mulberry32: a small seeded generator of numbers in [0, 1)
+function generator(seed) {
+  let a = Number(BigInt.asUintN(32, BigInt(seed)));
+  return () => {
+    a = (a + 0x6d2b79f5) | 0;
+    let t = Math.imul(a ^ (a >>> 15), 1 | a);
+    t = (t + Math.imul(t ^ (t >>> 7), 61 | t)) ^ t;
+    return ((t ^ (t >>> 14)) >>> 0) / 4294967296;
+  };
+}
+
+function envNumber(name, fallback) {
+  const v = (process.env[name] || "").trim();
+  if (v === "") return fallback;
+  if (!/^(0x[0-9a-fA-F]+|[0-9]+)$/.test(v)) fail(`${name}=${v} is not a number`);
+  return BigInt(v);
+}
+
+// Text typed into whatever has the keyboard focus (a value box, if a click opened one).
+const TYPED = ["0", "-1", "0.5", "1e300", "-1e300", "1e-300", "1.8e308", "NaN", "inf", "-inf",
+  "abc", "", "99999999999999999999", "1e"];
+const KEYS = ["Tab", "Enter", "Escape", "Space", "ArrowLeft", "ArrowRight", "Home", "End"];
+const RANDOM_CONTROLS = ["friction", "time", "section", "exploded", "pin A", "side by side"];
+
+// One random action on the page; returns what it did.
+async function randomAction(page, rand, st) {
+  const view = rect(st.view, "3D view");
+  const below = (y) => Math.max(y, view[1] + 1);
+  const anywhere = () => [rand() * VIEWPORT.width, below(rand() * VIEWPORT.height)];
+  const inView = () => [view[0] + rand() * view[2], view[1] + rand() * view[3]];
+  const r = rand();
+  const fmt = (p) => `(${p[0].toFixed(0)}, ${p[1].toFixed(0)})`;
+  if (r < 0.3) {
+    const controls = JSON.parse(st.controls || "{}");
+    const names = RANDOM_CONTROLS.filter((n) => controls[n] && controls[n][2] > 0);
+    if (names.length === 0) return "click a control (none reported)";
+    const name = names[Math.floor(rand() * names.length)];
+    const box = controls[name];
+    const frac = rand() < 0.2 ? (rand() < 0.5 ? -0.1 : 1.1) : rand();
+    const p = [box[0] + frac * box[2], box[1] + box[3] / 2];
+    await page.mouse.click(p[0], below(p[1]));
+    return `click "${name}" at ${frac.toFixed(2)} of its width`;
   }
-);
+  if (r < 0.5) {
+    const p = anywhere();
+    if (rand() < 0.15) {
+      await page.mouse.dblclick(p[0], p[1]);
+      return `double-click at ${fmt(p)}`;
+    }
+    await page.mouse.click(p[0], p[1]);
+    return `click at ${fmt(p)}`;
+  }
+  if (r < 0.7) {
+    const inside = rand() < 0.5;
+    const a = inside ? inView() : anywhere();
+    const b = inside ? inView() : anywhere();
+    const button = rand() < 0.75 ? "left" : "right";
+    await page.mouse.move(a[0], a[1]);
+    await page.mouse.down({ button });
+    // each event waits for a frame of the page (slow on SwiftShader): few steps
+    const steps = 1 + Math.floor(rand() * 2);
+    for (let k = 1; k <= steps; k++) {
+      await page.mouse.move(a[0] + ((b[0] - a[0]) * k) / steps, a[1] + ((b[1] - a[1]) * k) / steps);
+    }
+    await page.mouse.up({ button });
+    return `${button} drag from ${fmt(a)} to ${fmt(b)}`;
+  }
+  if (r < 0.78) {
+    const p = anywhere();
+    const dy = (rand() - 0.5) * 2000;
+    await page.mouse.move(p[0], p[1]);
+    await page.mouse.wheel(0, dy);
+    return `wheel ${dy.toFixed(0)} at ${fmt(p)}`;
+  }
+  if (r < 0.86) {
+    const text = TYPED[Math.floor(rand() * TYPED.length)];
+    const key = KEYS[Math.floor(rand() * 3)];
+    await page.keyboard.insertText(text);
+    await page.keyboard.press(key);
+    return `type "${text}", then ${key}`;
+  }
+  if (r < 0.9) {
+    const key = KEYS[Math.floor(rand() * KEYS.length)];
+    await page.keyboard.press(key);
+    return `key ${key}`;
+  }
+  const ms = Math.floor(50 + rand() * 550);
+  await page.waitForTimeout(ms);
+  return `wait ${ms} ms`;
+}
+
+// The page after an action: it answers, nothing failed.
+function checkRandomState(st, errors) {
+  if (errors.length > 0) fail(`console errors:\n  ${errors.join("\n  ")}`);
+  if (st.state === "failed" && /non-finite value during the solve|^probe:/.test(st.error || "")) {
+    fail(`the solve failed: ${st.error}`);
+  }
+  if (st.state === "not-converged") fail(`a solve ended unconverged: ${st.title}`);
+}
+
+async function randomMain() {
+  fs.mkdirSync(outDir, { recursive: true });
+  const seed = envNumber("LOPIN_UI_SEED", 20240917n);
+  const clicks = Number(envNumber("LOPIN_UI_CLICKS", 300n));
+  const seconds = Number(envNumber("LOPIN_UI_SECONDS", 90n));
+  const rand = generator(seed);
+  const errors = [];
+  const actions = [];
+  const report = { url, seed: seed.toString(), clicks, seconds, actions, screenshots: [] };
+  const browser = await launch();
+  try {
+    const page = await openPage(browser, errors);
+    await page.goto(url, { waitUntil: "load" });
+    let st = await waitConverged(page, 1, LOAD_TIMEOUT_MS);
+    const t0 = Date.now();
+    for (let i = 0; i < clicks && Date.now() - t0 < seconds * 1000; i++) {
+      const a0 = Date.now();
+      const what = await randomAction(page, rand, st);
+      actions.push(`${what} (${Date.now() - a0} ms)`);
+      // the page answers within the action's timeout (a hung page throws here)
+      st = await status(page);
+      checkRandomState(st, errors);
+      if (i % 50 === 49) {
+        const s = await checkDrawn(page, path.join(outDir, "web-random.png"), rect(st.view, "3D view"));
+        delete s.png;
+        report.screenshots.push(s);
+      }
+    }
+    report.seconds_used = (Date.now() - t0) / 1000;
+    // the newest request ends: converged, or a value the solver refuses
+    await page.waitForFunction(
+      () => !["solving", "starting"].includes(document.getElementById("lopin-status").dataset.state),
+      null,
+      { timeout: RESOLVE_TIMEOUT_MS, polling: 50 }
+    );
+    await page.waitForTimeout(300);
+    st = await status(page);
+    checkRandomState(st, errors);
+    report.end = { state: st.state, title: st.title, error: st.error || "" };
+    const s = await checkDrawn(page, path.join(outDir, "web-random.png"), rect(st.view, "3D view"));
+    delete s.png;
+    report.screenshots.push(s);
+  } catch (e) {
+    const last = actions.slice(-30).map((a, k) => `  ${actions.length - 30 + k}: ${a}`);
+    e.message +=
+      `\nLOPIN_UI_SEED=${seed} LOPIN_UI_CLICKS=${clicks} LOPIN_UI_SECONDS=${seconds} ` +
+      `(action ${actions.length})\nlast actions:\n${last.join("\n")}`;
+    throw e;
+  } finally {
+    await browser.close();
+    report.console_errors = errors;
+    fs.writeFileSync(path.join(outDir, "web-random.json"), JSON.stringify(report, null, 2));
+  }
+  if (errors.length > 0) fail(`console errors:\n  ${errors.join("\n  ")}`);
+  return report;
+}
+
+if (randomMode) {
+  randomMain().then(
+    (r) =>
+      console.log(
+        `web random use: seed ${r.seed}, ${r.actions.length} actions in ` +
+          `${r.seconds_used.toFixed(0)} s, ended ${r.end.state}; no console errors`
+      ),
+    (e) => {
+      console.error(`web random use FAILED: ${e.message}`);
+      process.exit(1);
+    }
+  );
+} else {
+  main().then(
+    (r) => {
+      const lat = r.moves.map((m) => m.app_latency_s.toFixed(3)).join(", ");
+      console.log(
+        `web e2e: first frame ${r.first_frame_ms.toFixed(0)} ms, first fields ` +
+          `${r.first_fields_ms.toFixed(0)} ms, first converged ${r.first_converged_ms.toFixed(0)} ms ` +
+          `after navigation; slider -> converged (s): ${lat}; no console errors`
+      );
+    },
+    (e) => {
+      console.error(`web e2e FAILED: ${e.message}`);
+      process.exit(1);
+    }
+  );
+}

@@ -235,6 +235,11 @@ pub fn build(spec: &SceneSpec, source: &str) -> Result<Problem> {
             .copied()
             .unwrap_or(PairRule::Perfect)
     };
+    let search_bound = spec
+        .interfaces
+        .iter()
+        .filter_map(|it| it.search)
+        .fold(0.0f64, f64::max);
     // contacts split by the physical surfaces zones name (each interface's surface kept)
     let named = crate::zone::surface_names(&spec.zones);
     let names: Vec<&str> = named.iter().map(|n| n.0).collect();
@@ -246,7 +251,7 @@ pub fn build(spec: &SceneSpec, source: &str) -> Result<Problem> {
         .surface_lookup(&names, &mesh_subs, &file_nodes)
         .map_err(|(g, reason)| LopinError::scene(source, named[g].1.clone(), reason))?;
     let (mut interfaces, mut surface_of): (Vec<Interface>, Vec<Option<String>>) =
-        detect_interfaces_grouped(&subs, &rule, &|s, face| lookup.group(s, face))
+        detect_interfaces_grouped(&subs, &rule, search_bound, &|s, face| lookup.group(s, face))
             .map_err(|e| e.in_source(source))?
             .into_iter()
             .map(|(mut iface, g)| {
