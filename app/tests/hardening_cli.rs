@@ -285,3 +285,17 @@ fn a_damped_run_exports_again() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn run_with_f_1e300_is_refused_naming_the_range() {
+    let stderr = refused(&["run", "two-blocks", "--f", "1e300"], &[]);
+    assert!(
+        stderr.contains("--f: a friction coefficient lies in [0, 10], got 1e300"),
+        "{stderr}"
+    );
+    let stderr = refused(&["run", "two-blocks", "--f=-1e300"], &[]);
+    assert!(
+        stderr.contains("--f: must be non-negative, got -1e300"),
+        "{stderr}"
+    );
+}

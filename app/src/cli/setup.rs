@@ -188,9 +188,10 @@ pub fn admitted(args: &SceneArgs) -> anyhow::Result<Admitted> {
         _ => anyhow::Error::new(e),
     })?;
     if let Some(f) = args.friction {
-        Parameter::Friction
-            .check(f)
-            .map_err(|_| anyhow::anyhow!("--f must be a non-negative number, got {f}"))?;
+        Parameter::Friction.check(f).map_err(|e| match e {
+            lopin_core::LopinError::Setting { reason, .. } => anyhow::anyhow!("--f: {reason}"),
+            other => anyhow::Error::new(other),
+        })?;
         spec.set_friction(f);
     }
     // into the scene, so that run.json, `lopin export` and a sweep's resume check carry it
