@@ -1,4 +1,4 @@
-//! Anderson acceleration of the relaxed LATIN iteration (issue 19; the relaxation of METHOD §6
+//! Anderson acceleration of the relaxed LATIN iteration (the relaxation of METHOD §6
 //! generalized): the fixed-point map x ↦ G(x), x = s over the current window, G(x) = s_new the
 //! linear stage's output after the local stage of x. With residuals r_i = G(x_i) − x_i and the
 //! differences ΔX, ΔR of the last `depth` iterates and residuals, each iteration takes

@@ -8,7 +8,7 @@
 //! (0 for the persistent contact law once the gap is closed). With the energy balance of
 //! [`crate::post::energy`], input work − (kinetic + strain energy) at the end equals the two
 //! together on a converged solve: the conservation law the tests check. A study's quantity of
-//! interest (issue 20).
+//! interest.
 
 use crate::interface::Law;
 use crate::mesh::{dot, Vec3};

@@ -1,5 +1,5 @@
 //! Which rank holds which part of a distributed LATIN solve, and the messages of one iteration
-//! (issue 18; METHOD §11 "Parallelism"). A substructure is held by one rank
+//! (METHOD §11 "Parallelism"). A substructure is held by one rank
 //! ([`crate::rank_assignment`]: METIS on the substructure graph where the `partition` feature is
 //! on, else contiguous runs of equal dofs); an interface by the rank of its first side. A rank
 //! factorizes, marches and relaxes only its substructures (METHOD §4, §6) and runs the local

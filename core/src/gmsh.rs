@@ -1,4 +1,4 @@
-//! Meshing with the `gmsh` program (issue 17): a `.geo` script meshed in 3-D with linear
+//! Meshing with the `gmsh` program: a `.geo` script meshed in 3-D with linear
 //! tetrahedra into an MSH 4.1 file, which [`crate::msh`] then reads. Meshes are cached by the
 //! script's content (and the options Lopin passes), so a scene that names a `.geo` file or
 //! generates one (`[granular_poly]`) meshes once per geometry. The cache lies in `LOPIN_CACHE`,

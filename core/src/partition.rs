@@ -1,4 +1,4 @@
-//! Automatic substructuring (issue 17, METHOD §1): a body's mesh cut into N substructures by a
+//! Automatic substructuring (METHOD §1): a body's mesh cut into N substructures by a
 //! graph partitioner (METIS, k-way, on the dual graph whose vertices are the elements and whose
 //! edges join elements sharing a face), each part a mesh of its own with its own copy of the
 //! nodes it shares with other parts, so that interface detection pairs them as perfect

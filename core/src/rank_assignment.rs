@@ -1,4 +1,4 @@
-//! Which rank of a distributed run holds which substructure (issue 18, METHOD §11): a graph
+//! Which rank of a distributed run holds which substructure (METHOD §11): a graph
 //! partition of the substructure graph (vertices: substructures weighted by their dofs, the
 //! work of their triangular solves; edges: two-sided interfaces weighted by their trace entries,
 //! what crosses between ranks when the edge is cut) by METIS k-way, so that ranks get equal

@@ -1,4 +1,4 @@
-//! The ranks of a distributed run, as the solver sees them (issue 18; METHOD §11): who this
+//! The ranks of a distributed run, as the solver sees them (METHOD §11): who this
 //! process is, an element-wise sum over all ranks, and a point-to-point exchange of trace
 //! fields between neighbouring ranks. [`Ranks`] is the whole contract; [`OneRank`] is the run
 //! on one machine (every operation is the identity), the `lopin` binary's `mpi` feature

@@ -1,4 +1,4 @@
-//! Linear (constant-strain) tetrahedron, the element of meshes imported from Gmsh (issue 17):
+//! Linear (constant-strain) tetrahedron, the element of meshes imported from Gmsh:
 //! stiffness K_e = V Bᵀ D B with the constant strain-displacement matrix B, lumped mass ρV/4 per
 //! node, stress D B u and its von Mises value (METHOD §1: lumped `M`, `K`, the same Voigt order
 //! xx, yy, zz, xy, yz, zx as [`crate::hex8`]). Nodes 1, 2, 3 seen from node 0 turn

@@ -1,7 +1,6 @@
-//! Where a cold time window's iteration starts (METHOD §7; issue 19, "carry more into warm
-//! starts"): the linear-stage input s = (F, W) on the window's steps m0..=m1, predicted from the
-//! converged steps before it. With n = m − m0 + 1 the step's distance from the last converged
-//! step m0 − 1:
+//! Where a cold time window's iteration starts (METHOD §7): the linear-stage input s = (F, W)
+//! on the window's steps m0..=m1, predicted from the converged steps before it. With
+//! n = m − m0 + 1 the step's distance from the last converged step m0 − 1:
 //!
 //! * `zero`:   s_m = 0 (METHOD §7 as written);
 //! * `hold`:   s_m = s_{m0−1} (the last converged step held constant);

@@ -1,6 +1,6 @@
 //! Zones: interfaces grouped under a name in the scene file (`[[zone]]`), so that each zone's
 //! friction coefficient, initial gap and prescribed velocity amplitude is a parameter of its own
-//! (issue 20; the laws of METHOD §5, the multiresolution restarts of METHOD §8).
+//! (the laws of METHOD §5, the multiresolution restarts of METHOD §8).
 //!
 //! A zone selects the contact interfaces between the body pairs it lists (`bodies`; none: every
 //! pair) whose centre lies in its box (`min`, `max`; none: anywhere) and that lie on one of the

@@ -5,7 +5,7 @@
 //! convergence plot of η (METHOD §7); while the user is idle, a background study solves the
 //! friction slider's range and keeps every converged configuration, so a slider move shows the
 //! nearest stored picture at once, and a pinned value is compared with the current one as a
-//! difference field or side by side (issue 20). Shared by the desktop binary and the web build.
+//! difference field or side by side. Shared by the desktop binary and the web build.
 
 pub mod app;
 pub mod camera;

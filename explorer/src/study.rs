@@ -1,4 +1,4 @@
-//! The explorer's parametric study on the solver side (issue 20, METHOD §8): the friction values
+//! The explorer's parametric study on the solver side (METHOD §8): the friction values
 //! the background study covers (the slider's range at [`GRID_STEP`]), which of them to solve
 //! next (the unsolved value nearest the user's, so each solve starts close to a stored one), and
 //! the library of converged configurations: their interface states s and solutions ŝ in f32

@@ -1,5 +1,5 @@
-//! Agreement between a converged LATIN solution and the monolithic reference (issue: reference
-//! yardstick): nodal velocities of every substructure at every step, and step-averaged interface
+//! Agreement between a converged LATIN solution and the monolithic reference, the yardstick of
+//! every LATIN run: nodal velocities of every substructure at every step, and step-averaged interface
 //! forces, both as max differences over space–time normalized by the reference's max magnitude.
 //!
 //! Forces are compared per substructure dof as the sum over that dof's interface copies of
@@ -9,7 +9,7 @@
 //! not defined, but their total is the substructure's equilibrium M a + K u.
 //!
 //! Beside these, the quantities the undamped rule's alternating mode v_m = (−1)^m c cannot touch
-//! (issue 19; METHOD §10): displacements, step-averaged velocities (v_m + v_{m−1})/2, the total
+//! (METHOD §10): displacements, step-averaged velocities (v_m + v_{m−1})/2, the total
 //! energy ½vᵀMv + ½uᵀKu per step (the mode carries kinetic energy, so this one sees what of it
 //! is left) and the step-averaged normal force of each contact interface (METHOD §5).
 

@@ -1,4 +1,4 @@
-//! Checkpoints of a long `lopin run` (issue 18): `--checkpoint DIR` writes, every
+//! Checkpoints of a long `lopin run`: `--checkpoint DIR` writes, every
 //! `--checkpoint-every N` iterations, the whole solve in progress of every rank
 //! ([`lopin_core::SolveRun`]: s, ŝ, the window and its start states, the η norms), and
 //! `--restart DIR` continues from the newest one to the same result as the uninterrupted run

@@ -1,4 +1,4 @@
-//! The ranks this process runs among (issue 18): one, or, in a binary built with the `mpi`
+//! The ranks this process runs among: one, or, in a binary built with the `mpi`
 //! feature and started by `mpirun -np P` with P > 1, the MPI world ([`mpi_world`]). Commands
 //! ask [`current`] for the ranks to make their solver on, [`is_root`] whether they print and
 //! write the files rank 0 owns, and [`agree`] to turn an error found on some ranks into the same

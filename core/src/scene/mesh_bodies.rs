@@ -1,4 +1,4 @@
-//! The bodies of a scene taken from Gmsh files (`[[mesh_body]]`, issue 17): each is the
+//! The bodies of a scene taken from Gmsh files (`[[mesh_body]]`): each is the
 //! physical volume of an MSH 4.1 file (its path relative to the scene file; a `.geo` script is
 //! meshed by gmsh first, [`crate::gmsh`]), one substructure (or the parts the partitioner cuts)
 //! with its own copy of the nodes it shares with other bodies (so interface detection pairs

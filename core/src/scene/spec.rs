@@ -46,7 +46,7 @@ pub struct SceneSpec {
     /// Bodies: boxes meshed with hexahedra and cut into substructures.
     #[serde(default, rename = "body", skip_serializing_if = "Vec::is_empty")]
     pub bodies: Vec<BodySpec>,
-    /// Bodies taken from the physical volumes of Gmsh files (`[[mesh_body]]`, issue 17).
+    /// Bodies taken from the physical volumes of Gmsh files (`[[mesh_body]]`).
     #[serde(default, rename = "mesh_body", skip_serializing_if = "Vec::is_empty")]
     pub mesh_bodies: Vec<MeshBodySpec>,
     /// How pairs of bodies are joined (default: perfect where they touch).
@@ -55,7 +55,7 @@ pub struct SceneSpec {
     /// Boundary conditions on faces of bodies (faces not named are free).
     #[serde(default, rename = "boundary", skip_serializing_if = "Vec::is_empty")]
     pub boundaries: Vec<BoundarySpec>,
-    /// Named groups of interfaces whose parameters a study moves apart (`[[zone]]`, issue 20).
+    /// Named groups of interfaces whose parameters a study moves apart (`[[zone]]`).
     #[serde(default, rename = "zone", skip_serializing_if = "Vec::is_empty")]
     pub zones: Vec<crate::zone::ZoneSpec>,
 }

@@ -1,4 +1,4 @@
-//! Parametric studies over several interface parameters (issue 20; METHOD §8 multiresolution):
+//! Parametric studies over several interface parameters (METHOD §8 multiresolution):
 //! which parameters move ([`target`]: f, gap, v0, everywhere or in one zone), which
 //! configurations are solved ([`design`]: grids, Latin hypercube or Monte Carlo samples from
 //! uniform, normal and lognormal distributions), in which order ([`path`]: a greedy

@@ -1,4 +1,4 @@
-//! `lopin study`: a parametric study over several interface parameters (issue 20; METHOD §8):
+//! `lopin study`: a parametric study over several interface parameters (METHOD §8):
 //! a grid of value lists or samples of distributions ([`lopin_core::study::design`]), each
 //! parameter everywhere or in one zone of the scene (`f@ZONE`), visited along a greedy
 //! nearest-neighbour path cut into `--chains` chains that run at once, each configuration
