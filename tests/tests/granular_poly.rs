@@ -1,4 +1,4 @@
-//! The polyhedral granular material (`[granular_poly]`, issue 17), meshed by gmsh (the README's
+//! The polyhedral granular material (`[granular_poly]`), meshed by gmsh (the README's
 //! test command installs it):
 //!
 //! * `granular-poly` builds as the table says: a matrix cut into 8 substructures by METIS and
