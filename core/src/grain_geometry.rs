@@ -14,7 +14,7 @@
 //! (z = L) (tags 1 … 6). Meshed with `gmsh -3 sample.geo -format msh41 -o sample.msh` (Gmsh
 //! 4.8.4): the 10 grains of radius 0.12 L to 0.2 L (gap 0.04 L) of `granular-poly` give 5,714
 //! nodes at a mesh size of 0.06 L; the 50 grains of radius 0.08 L to 0.14 L (gap 0.02 L) of
-//! `granular-poly-paper` 237,172 nodes at 0.0152 L (35 s).
+//! `granular-poly-paper` 237,172 nodes at 0.0152 L.
 
 use std::collections::HashMap;
 use std::f64::consts::PI;

@@ -1,19 +1,15 @@
 //! Which time windows a solve uses (METHOD §7), chosen from what the run is for when nobody
 //! asked for a length, and the reason, which the run's report prints.
 //!
-//! Measured on the built-in scenes (README "what each idea contributed"): for one cold solve of a
-//! scene with contact, one-step windows reach a given η in 1.6–24× less time than the whole
-//! interval (`two-blocks-ramp` at η < 1e-6: 0.39 s against 4.07 s; `granular-paper`: 70 s
-//! against 9 min), for an error of the same size against the converged solution at a given
-//! tolerance; without contact (`bar`, `bar-bimaterial`) the whole interval reaches the default
-//! η < 1e-3 in 19–31 iterations, 5× faster than the windows. The explorer's slider restarts
-//! from a converged neighbour over the whole interval, where a few iterations suffice, and
-//! streams each iterate of the whole interval into the view. A study of a scene with contact
-//! (`lopin study`, `lopin sweep`) runs one-step windows, each started from the nearest solved
-//! configuration's converged steps: measured on `two-blocks`, the 11 × 11 grid of f × gap solves
-//! warm in 10.3 s against 82.0 s over the whole interval, `gap-impact` and `granular-small`
-//! friction sweeps (warm and cold together) in 1.2 s and 1.5 s against 21.9 s and 7.3 s (README
-//! "Studies"). The whole interval gains more iterations per warm start, but each of its
+//! The choice follows measurements on the built-in scenes (the README gives the figures):
+//! for one cold solve of a scene with contact, one-step windows reach a given η in less time than
+//! the whole interval, for an error of the same size against the converged solution; without
+//! contact (`bar`, `bar-bimaterial`) the whole interval reaches the default η < 1e-3 in a few
+//! tens of iterations, faster than the windows. The explorer's slider restarts from a converged
+//! neighbour over the whole interval, where a few iterations suffice, and streams each iterate
+//! of the whole interval into the view. A study of a scene with contact (`lopin study`,
+//! `lopin sweep`) runs one-step windows, each started from the nearest solved configuration's
+//! converged steps: the whole interval gains more iterations per warm start, but each of its
 //! iterations marches every step, and the error a moved impact leaves crosses the interval at
 //! about a third of a step per iteration.
 
