@@ -17,6 +17,7 @@ mod run;
 mod scaling;
 mod scenes;
 mod setup;
+mod shell;
 mod stress;
 mod study;
 mod sweep;
@@ -70,6 +71,10 @@ enum Command {
         /// Scene name.
         name: String,
     },
+    /// Print the shell completion script of `lopin` (bash, zsh, fish, elvish, powershell).
+    Completions(shell::CompletionsArgs),
+    /// Print the man page of `lopin`, or write one page per command into a folder.
+    Man(shell::ManArgs),
 }
 
 /// Runs the chosen subcommand.
@@ -103,6 +108,8 @@ pub fn dispatch(cli: Cli) -> anyhow::Result<std::process::ExitCode> {
         Some(Command::Mesh(cmd)) => mesh::mesh(&cmd),
         Some(Command::Scenes) => scenes::list(),
         Some(Command::ExportScene { name }) => scenes::export(&name),
+        Some(Command::Completions(args)) => shell::completions(&args),
+        Some(Command::Man(args)) => shell::man(&args),
         None => view::view(&view::ViewArgs::default()),
     }
 }
