@@ -85,6 +85,21 @@ fn granular_ramp_steps_2_pow_63_is_refused_against_the_run() {
 }
 
 #[test]
+fn boundary_ramp_time_1e300_is_refused_against_the_run() {
+    let good = text("two-blocks");
+    let e = load_error(
+        "ramp-time",
+        &good.replace("ramp_time = 2.5e-6", "ramp_time = 1e300"),
+    );
+    assert!(
+        e.contains("boundary[0].z.ramp_time")
+            && e.contains("longer than the run (1.5e-5 s")
+            && e.contains("at most 1.5e-5 s"),
+        "{e}"
+    );
+}
+
+#[test]
 fn friction_1e300_is_refused_naming_the_range() {
     let e = load_error(
         "friction-granular",

@@ -353,7 +353,25 @@ fn validate_expanded(spec: &SceneSpec, source: &str, generated: Generated) -> Re
         }
     }
     let mut boundary_places: HashMap<(&str, &str, Option<&str>), usize> = HashMap::new();
+    let duration = spec.time.steps as f64 * spec.time.dt;
     for (i, bc) in spec.boundaries.iter().enumerate() {
+        for (axis, c) in [("x", &bc.x), ("y", &bc.y), ("z", &bc.z)] {
+            let Some(c) = c else { continue };
+            // a ramp the run never finishes leaves the load at a fraction of its value, or
+            // never starts it
+            if c.ramp_time > duration * (1.0 + 1e-9) {
+                return err(
+                    format!("boundary[{i}].{axis}.ramp_time"),
+                    format!(
+                        "a ramp of {:?} s is longer than the run ({} s = time.steps × \
+                         time.dt): the load would never reach its value; at most {} s",
+                        c.ramp_time,
+                        short(duration),
+                        short(duration)
+                    ),
+                );
+            }
+        }
         let place = (bc.body.as_str(), bc.face.as_str(), bc.surface.as_deref());
         if let Some(first) = boundary_places.insert(place, i) {
             return err(
@@ -710,6 +728,11 @@ pub fn check_mesh_time_step(
         ));
     }
     Ok(())
+}
+
+/// `x` with at most 6 significant digits, in the shortest form that keeps them.
+fn short(x: f64) -> String {
+    format!("{:?}", format!("{x:.5e}").parse::<f64>().unwrap_or(x))
 }
 
 /// The reason when `n` substructures cannot be cut from a body of `elements` elements (a build
