@@ -353,25 +353,7 @@ fn validate_expanded(spec: &SceneSpec, source: &str, generated: Generated) -> Re
         }
     }
     let mut boundary_places: HashMap<(&str, &str, Option<&str>), usize> = HashMap::new();
-    let duration = spec.time.steps as f64 * spec.time.dt;
     for (i, bc) in spec.boundaries.iter().enumerate() {
-        for (axis, c) in [("x", &bc.x), ("y", &bc.y), ("z", &bc.z)] {
-            let Some(c) = c else { continue };
-            // a ramp the run never finishes leaves the load at a fraction of its value, or
-            // never starts it
-            if c.ramp_time > duration * (1.0 + 1e-9) {
-                return err(
-                    format!("boundary[{i}].{axis}.ramp_time"),
-                    format!(
-                        "a ramp of {:?} s is longer than the run ({} s = time.steps × \
-                         time.dt): the load would never reach its value; at most {} s",
-                        c.ramp_time,
-                        short(duration),
-                        short(duration)
-                    ),
-                );
-            }
-        }
         let place = (bc.body.as_str(), bc.face.as_str(), bc.surface.as_deref());
         if let Some(first) = boundary_places.insert(place, i) {
             return err(
@@ -428,6 +410,7 @@ fn validate_expanded(spec: &SceneSpec, source: &str, generated: Generated) -> Re
         })?;
     }
     check_physics(spec, source)?;
+    check_ramps(spec, source)?;
     if let Some(k) = spec.solver.k {
         check_k(spec, source, k)?;
     }
@@ -726,6 +709,31 @@ pub fn check_mesh_time_step(
                 spec.time.dt, COURANT_RANGE.0, COURANT_RANGE.1
             ),
         ));
+    }
+    Ok(())
+}
+
+/// Every boundary ramp ends within the run: a ramp the run never finishes leaves the load at a
+/// fraction of its value, or never starts it (checked after the time step is).
+fn check_ramps(spec: &SceneSpec, source: &str) -> Result<()> {
+    let duration = spec.time.steps as f64 * spec.time.dt;
+    for (i, bc) in spec.boundaries.iter().enumerate() {
+        for (axis, c) in [("x", &bc.x), ("y", &bc.y), ("z", &bc.z)] {
+            let Some(c) = c else { continue };
+            if c.ramp_time > duration * (1.0 + 1e-9) {
+                return Err(LopinError::scene(
+                    source,
+                    format!("boundary[{i}].{axis}.ramp_time"),
+                    format!(
+                        "a ramp of {:?} s is longer than the run ({} s = time.steps × \
+                         time.dt): the load would never reach its value; at most {} s",
+                        c.ramp_time,
+                        short(duration),
+                        short(duration)
+                    ),
+                ));
+            }
+        }
     }
     Ok(())
 }
