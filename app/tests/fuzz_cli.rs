@@ -1,4 +1,4 @@
-//! Fuzzing of the command line (issue "Hardening"): proptest draws argument vectors for
+//! Fuzzing of the command line: proptest draws argument vectors for
 //! `lopin run`, `lopin estimate` and `lopin sweep` on small built-in scenes, with options taking
 //! ordinary and extreme values (0, negatives, 1e300, NaN, infinities, 2^64 − 1, 2^62 + 1, the
 //! smallest subnormal, empty ranges, garbage), and runs the real binary on each. Every case must

@@ -1,4 +1,4 @@
-//! `lopin` under `mpirun` (feature `mpi`; issue 18): the same scene on 1, 2, 3 and 4 ranks
+//! `lopin` under `mpirun` (feature `mpi`): the same scene on 1, 2, 3 and 4 ranks
 //! (oversubscribed on a 2-core machine) takes the same iterations, reaches the same η (same
 //! bits) and writes the same solution file, byte for byte, as the run on one machine:
 //! `two-blocks --split 2`, `granular-small` single- and two-scale, and a 3-value friction sweep

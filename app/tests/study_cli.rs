@@ -1,4 +1,4 @@
-//! `lopin study` from the command line (issue 20): a study killed with SIGKILL after a few
+//! `lopin study` from the command line: a study killed with SIGKILL after a few
 //! configurations and resumed keeps every finished row byte for byte, solves the rest, and ends
 //! with the same configurations and quantities (to the tolerance's reach: a resumed chain restarts
 //! cold) as an uninterrupted study, with its figures and `study.parquet` (the CSV's rows, typed); the rows a killed distributed study left

@@ -111,7 +111,7 @@ fn slider_change_converges_warm(spawn: Spawn) {
         "warm {} iterations vs cold {}; max velocity difference {rel:.2e} of the peak",
         r1.iterations, cold.iterations
     );
-    // the bound of the sweep validation (issue 4): 30 tol on the peak-relative difference
+    // the bound of the sweep validation: 30 tol on the peak-relative difference
     assert!(
         rel < 30.0 * tol,
         "warm and cold differ by {rel:.3e} > 30 tol"

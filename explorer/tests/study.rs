@@ -1,4 +1,4 @@
-//! The explorer's background study (issue 20): while the user is idle the worker solves the
+//! The explorer's background study: while the user is idle the worker solves the
 //! friction grid nearest-first and stores every converged configuration, whose picture and
 //! state equal a cold solve's within the sweep bound 30·tol; a request for a stored value is
 //! answered without solving; one between two stored values starts warm from their states'

@@ -1,4 +1,4 @@
-//! Distributed runs (issue 18, `core/src/distribution.rs`, `core/src/ranks.rs`) on ranks that
+//! Distributed runs (`core/src/distribution.rs`, `core/src/ranks.rs`) on ranks that
 //! are threads of this process (`core/src/thread_ranks.rs`): the same scene solved on 1, 2, 3
 //! and 4 ranks takes the same number of iterations, reaches the same η and gives the same
 //! interface fields (F, W) and ŝ, bit for bit, as the solver on one machine: on

@@ -1,4 +1,4 @@
-//! Fuzzing of scene files, in process (issue "Hardening"): the TOML of the small registry scenes
+//! Fuzzing of scene files, in process: the TOML of the small registry scenes
 //! is mutated by proptest strategies (a number replaced by an extreme value, a line deleted or
 //! duplicated, an array element appended or dropped, a name or reference renamed, a `[solver]`
 //! table appended; one to three of them), then parsed, counted, built, set up and solved with a

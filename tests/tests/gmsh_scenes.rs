@@ -1,4 +1,4 @@
-//! Scenes meshed by gmsh (issue 17): `.geo` scripts of `assets/meshes/` meshed on first use
+//! Scenes meshed by gmsh: `.geo` scripts of `assets/meshes/` meshed on first use
 //! (cached by their content, [`lopin_core::gmsh`]) and named by scene files of
 //! `assets/scenes/gmsh/`. These tests need the `gmsh` program (the README's test command
 //! installs it); without it they fail with the message saying how to install it.

@@ -1,4 +1,4 @@
-//! Bodies from a Gmsh file (issue 17): the physical volumes of one MSH file become bodies whose
+//! Bodies from a Gmsh file: the physical volumes of one MSH file become bodies whose
 //! shared nodes are copied into each (`MshMesh::body_mesh`), so interface detection pairs them
 //! on their common face as a perfect interface; a boundary condition holds on a physical surface
 //! (`MshMesh::surface_selector`, `detect::boundary_interface_on`); and the model solves like a

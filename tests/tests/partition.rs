@@ -1,4 +1,4 @@
-//! Automatic substructuring (issue 17): `substructures = N` cuts a body's mesh with METIS, the
+//! Automatic substructuring: `substructures = N` cuts a body's mesh with METIS, the
 //! cuts become perfect interfaces, and the solution does not depend on the cut.
 //!
 //! * Every element lands in exactly one substructure and the substructures' dofs lie within

@@ -1,4 +1,4 @@
-//! Dealing substructures to the ranks of a distributed run (issue 18, `core/src/rank_assignment.rs`):
+//! Dealing substructures to the ranks of a distributed run (`core/src/rank_assignment.rs`):
 //! on `granular-small` (64 substructures) and `two-blocks --split 5` (50), for 1 to 8 ranks,
 //! every substructure has one rank, the loads add up to the problem, the largest rank holds at
 //! most 1.25 times the mean dofs, and METIS cuts fewer trace entries between ranks than dealing

@@ -1,7 +1,7 @@
 //! The smooth indicator η̄ (`lopin_core::indicator::smooth_sums`: η on step-averaged fields) and
 //! the comparison metrics the undamped rule's alternating mode cannot touch
 //! (`lopin_reference::compare`), on `two-blocks-ramp` over the whole interval, where the mode
-//! stalls η (issue 19). Measured on this code: stopping on η at 1e-3 takes 302 iterations,
+//! stalls η. Measured on this code: stopping on η at 1e-3 takes 302 iterations,
 //! stopping on η̄ at 1e-3 takes 59; against the reference the η̄-stopped solution has
 //! displacements within 6.0e-5, contact normal forces within 1.1e-6 and step-averaged velocities
 //! within 3.7e-3; the η-stopped one has velocities 3.6e-3 off but step-averaged velocities only

@@ -1,4 +1,4 @@
-//! Studies over several parameters (issue 20, `core/src/study/`): a 6 × 2 grid of friction ×
+//! Studies over several parameters (`core/src/study/`): a 6 × 2 grid of friction ×
 //! gap on `two-blocks` along the greedy path (friction first), warm-started from the nearest
 //! solved configuration or from a parallelogram of three, against cold solves of every
 //! configuration: fewer iterations, and the same quantities of interest within the tolerance's

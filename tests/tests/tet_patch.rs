@@ -1,4 +1,4 @@
-//! Patch test of the linear tetrahedron (`lopin_core::tet4`, issue 17): on an irregular
+//! Patch test of the linear tetrahedron (`lopin_core::tet4`): on an irregular
 //! tetrahedral mesh of a cube (3 × 3 × 3 cells, each split into 6 tetrahedra along its main
 //! diagonal, the 8 interior nodes moved by up to 0.3 of a cell in every direction), the
 //! displacement u = E x prescribed on the boundary nodes must give u = E x at the interior nodes

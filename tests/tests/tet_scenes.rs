@@ -1,4 +1,4 @@
-//! Tetrahedra through the whole pipeline (issue 17): box bodies meshed with `elements = "tet4"`
+//! Tetrahedra through the whole pipeline: box bodies meshed with `elements = "tet4"`
 //! (six tetrahedra per hexahedron of the box grid, Kuhn split) go through interface detection
 //! (triangular faces, lumped areas A/3), LATIN and the monolithic reference like hexahedra.
 //!
