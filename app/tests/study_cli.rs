@@ -8,31 +8,10 @@
 
 mod study_files;
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
+use std::path::Path;
+use std::process::Stdio;
 use std::time::{Duration, Instant};
-use study_files::parquet_matches_csv;
-
-fn lopin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_lopin"))
-}
-
-/// Runs `c`, which must succeed; its output.
-fn succeeds(c: &mut Command) -> std::process::Output {
-    let out = c.output().expect("runs");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    out
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("lopin-study-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    d
-}
+use study_files::{lopin, parquet_matches_csv, scratch, succeeds};
 
 const ARGS: [&str; 8] = [
     "study",
@@ -77,7 +56,7 @@ fn column(line: &str, header: &str, name: &str) -> f64 {
 
 #[test]
 fn a_killed_study_resumes_without_losing_a_row() {
-    let full = scratch("full");
+    let full = scratch("study", "full");
     let out = succeeds(lopin().args(ARGS).args(["--json", "--out"]).arg(&full));
     let json: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
     assert_eq!(json["totals"]["configurations"], 8);
@@ -100,7 +79,7 @@ fn a_killed_study_resumes_without_losing_a_row() {
     }
     assert_eq!(rows(&full).len(), 8);
 
-    let part = scratch("part");
+    let part = scratch("study", "part");
     let mut child = lopin()
         .args(ARGS)
         .arg("--out")
@@ -178,7 +157,7 @@ fn a_killed_study_resumes_without_losing_a_row() {
 
     // a distributed study killed mid-way leaves rank 1's rows in rank-1/: a resume takes them in
     // (solving none of them again: every row comes back byte for byte) and removes the folder
-    let split = scratch("ranks");
+    let split = scratch("study", "ranks");
     let side = split.join("rank-1");
     std::fs::create_dir_all(&side).expect("test value");
     for d in [&split, &side] {
@@ -208,7 +187,7 @@ fn a_killed_study_resumes_without_losing_a_row() {
 /// Runs `lopin study two-blocks ARGS --out DIR`, which must fail with a message holding every
 /// one of `needles`, writing nothing.
 fn refused(args: &[&str], needles: &[&str]) {
-    let dir = scratch("bad");
+    let dir = scratch("study", "bad");
     let out = lopin()
         .args(["study", "two-blocks"])
         .args(args)
@@ -273,7 +252,7 @@ fn bad_study_input_is_refused_with_the_option_and_the_reason() {
 /// same rows.
 #[test]
 fn a_study_over_two_zones_of_a_gmsh_scene_moves_each_zone() {
-    let dir = scratch("zones");
+    let dir = scratch("study", "zones");
     let scene = format!(
         "{}/../assets/scenes/gmsh/two-blocks-pads-gmsh.toml",
         env!("CARGO_MANIFEST_DIR")

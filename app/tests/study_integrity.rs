@@ -12,20 +12,10 @@
 mod study_files;
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
+use std::process::Stdio;
 use std::sync::OnceLock;
 use std::time::{Duration, Instant};
-use study_files::parquet_matches_csv;
-
-fn lopin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_lopin"))
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("lopin-integrity-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    d
-}
+use study_files::{lopin, parquet_matches_csv, scratch, succeeds};
 
 /// The study every test damages: 4 configurations, each solved cold.
 const STUDY: [&str; 7] = [
@@ -38,21 +28,11 @@ const STUDY: [&str; 7] = [
     "--cold",
 ];
 
-fn succeeds(c: &mut Command) -> Output {
-    let out = c.output().expect("runs");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    out
-}
-
 /// The untouched study, run once for every test.
 fn untouched() -> &'static Path {
     static DIR: OnceLock<PathBuf> = OnceLock::new();
     DIR.get_or_init(|| {
-        let dir = scratch("untouched");
+        let dir = scratch("integrity", "untouched");
         succeeds(lopin().args(STUDY).arg("--out").arg(&dir));
         dir
     })
@@ -104,7 +84,7 @@ fn numbers(header: &str, line: &str) -> Vec<String> {
 /// lines in, the file's text out); returns the folder.
 fn damaged(name: &str, damage: impl Fn(&str, &[String]) -> String) -> PathBuf {
     let from = untouched();
-    let dir = scratch(name);
+    let dir = scratch("integrity", name);
     std::fs::create_dir_all(&dir).expect("creates");
     for f in ["study.json", "study.csv", "study.parquet"] {
         std::fs::copy(from.join(f), dir.join(f)).expect(f);
@@ -471,7 +451,7 @@ fn study_resume_equals_an_uninterrupted_run() {
 
 /// `lopin study SCENE ARGS --out DIR` must fail naming every one of `needles`, writing nothing.
 fn refused(scene: &str, args: &[&str], needles: &[&str]) {
-    let dir = scratch("refused");
+    let dir = scratch("integrity", "refused");
     let out = lopin()
         .args(["study", scene])
         .args(args)
@@ -526,7 +506,7 @@ fn zone_and_global_friction_together_are_refused() {
 fn study_plans_100000_samples() {
     // the plan (design, visiting order, chains) of 100,000 samples is made and written; the
     // study is stopped once it starts solving
-    let dir = scratch("plan");
+    let dir = scratch("integrity", "plan");
     let mut child = lopin()
         .args(["study", "two-blocks", "--param", "f=uniform(0,0.5)"])
         .args([

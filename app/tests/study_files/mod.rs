@@ -1,6 +1,31 @@
-//! What the study tests read back from a study folder: `study.parquet` against `study.csv`.
+//! What the study tests share: the binary, a fresh scratch folder, a run that must succeed, and
+//! `study.parquet` read back against `study.csv`.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// The `lopin` binary under test.
+pub fn lopin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_lopin"))
+}
+
+/// A fresh (removed) folder `lopin-{prefix}-{name}-PID` in the temporary directory.
+pub fn scratch(prefix: &str, name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("lopin-{prefix}-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    d
+}
+
+/// Runs `c`, which must succeed; its output.
+pub fn succeeds(c: &mut Command) -> Output {
+    let out = c.output().expect("runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out
+}
 
 /// study.parquet holds the rows of study.csv, column by column: the same names and order, the
 /// same numbers (the CSV's text round-trips each f64 exactly), nulls where the CSV is empty.

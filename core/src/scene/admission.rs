@@ -567,19 +567,26 @@ fn polyhedral_pieces(
     if !nodes.is_finite() || nodes >= 1e30 || pieces == 0 {
         return None;
     }
+    let (group, trace) = cube_pieces(nodes, pieces)?;
+    Some((vec![group], trace))
+}
+
+/// `pieces` substructures sharing `nodes` equally, each counted as a cube of hexahedra holding
+/// its share, every face an interface side (two sides of three components on each of six
+/// faces, halved: every face is shared), each its own factorization. None on overflow.
+fn cube_pieces(nodes: f64, pieces: u128) -> Option<(PieceGroup, u128)> {
     let per_piece = (nodes / pieces as f64).max(8.0);
     let m = (per_piece.cbrt() - 1.0).round().max(1.0) as u128;
-    // two sides of three components on each of six faces, halved: every face is shared
     let trace = pieces
         .checked_mul(9)?
         .checked_mul((m + 1).checked_mul(m + 1)?)?;
-    let groups = vec![PieceGroup {
+    let group = PieceGroup {
         count: pieces,
         div: [m; 3],
         classes: pieces,
         own_stiffness: true,
-    }];
-    Some((groups, trace))
+    };
+    Some((group, trace))
 }
 
 /// The mesh bodies' sizes before their files are read: each counted with every node its MSH
@@ -608,28 +615,16 @@ fn announced_meshes(spec: &SceneSpec, source: &str) -> Vec<MeshSize> {
     }
 }
 
-/// The substructures of mesh bodies as read: each body's nodes shared out equally among its
-/// substructures, each counted as a cube of hexahedra holding its share (the operators and
-/// factors of a tetrahedral mesh are no larger than those of a hexahedral one with as many
-/// nodes), every face an interface side as for polyhedral samples. None on overflow.
+/// The substructures of mesh bodies as read, each body's nodes shared out among its
+/// substructures ([`cube_pieces`]: the operators and factors of a tetrahedral mesh are no larger
+/// than those of a hexahedral one with as many nodes). None on overflow.
 fn mesh_pieces(meshes: &[MeshSize]) -> Option<(Vec<PieceGroup>, u128)> {
     let mut groups = Vec::with_capacity(meshes.len());
     let mut trace = 0u128;
     for m in meshes {
-        let pieces = m.substructures.max(1) as u128;
-        let per_piece = (m.nodes as f64 / pieces as f64).max(8.0);
-        let div = (per_piece.cbrt() - 1.0).round().max(1.0) as u128;
-        trace = trace.checked_add(
-            pieces
-                .checked_mul(9)?
-                .checked_mul((div + 1).checked_mul(div + 1)?)?,
-        )?;
-        groups.push(PieceGroup {
-            count: pieces,
-            div: [div; 3],
-            classes: pieces,
-            own_stiffness: true,
-        });
+        let (group, more) = cube_pieces(m.nodes as f64, m.substructures.max(1) as u128)?;
+        trace = trace.checked_add(more)?;
+        groups.push(group);
     }
     Some((groups, trace))
 }
