@@ -438,6 +438,8 @@ fn check_physics(spec: &SceneSpec, source: &str) -> Result<()> {
     };
     let mut h_min = f64::INFINITY;
     for (i, b) in spec.bodies.iter().enumerate() {
+        let edges: [f64; 3] =
+            std::array::from_fn(|a| (b.max[a] - b.min[a]) / b.divisions[a] as f64);
         for a in 0..3 {
             for (field, x) in [("min", b.min[a]), ("max", b.max[a])] {
                 if x.abs() > LENGTH_RANGE.1 {
@@ -451,7 +453,7 @@ fn check_physics(spec: &SceneSpec, source: &str) -> Result<()> {
                     );
                 }
             }
-            let h = (b.max[a] - b.min[a]) / b.divisions[a] as f64;
+            let h = edges[a];
             if h < LENGTH_RANGE.0 {
                 return err(
                     format!("body[{i}].divisions"),
@@ -465,7 +467,7 @@ fn check_physics(spec: &SceneSpec, source: &str) -> Result<()> {
             }
             h_min = h_min.min(h);
         }
-        let h: [f64; 3] = std::array::from_fn(|a| (b.max[a] - b.min[a]) / b.divisions[a] as f64);
+        let h = edges;
         let aspect =
             h.iter().fold(0.0f64, |m, &x| m.max(x)) / h.iter().fold(f64::MAX, |m, &x| m.min(x));
         if aspect > MAX_ASPECT {
