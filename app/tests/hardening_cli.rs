@@ -64,7 +64,7 @@ fn estimate_of_a_10_12_element_scene_answers_at_once_with_a_refusal() {
     ] {
         assert!(stderr.contains(part), "no `{part}` in {stderr}");
     }
-    // a bound against hangs (the answer takes milliseconds; the README gives the figure)
+    // a bound against hangs (the answer takes milliseconds; the guide gives the figure)
     assert!(took < Duration::from_secs(20), "{took:?}");
 }
 

@@ -211,13 +211,13 @@ pub fn parameters(
             "Spectral radius at infinite frequency of the time scheme (Bossak–Newmark): 1 is the \
              undamped trapezoidal rule; smaller damps the highest mesh frequencies, which stall \
              the iteration (0.5: about 7× fewer iterations to η < 1e-6 on two-blocks). Changes \
-             the discrete problem slightly (README: Fewer iterations).",
+             the discrete problem slightly (guide: Fewer iterations).",
         );
     ui.checkbox(&mut p.wave, "wave-matched search direction")
         .on_hover_text(
             "Search direction ρc_p along each interface normal and ρc_s across it instead of \
              the scalar k: fewer iterations per step in incremental granular runs, more at \
-             η < 1e-3 on two-blocks (README: Fewer iterations). Same converged solution.",
+             η < 1e-3 on two-blocks (guide: Fewer iterations). Same converged solution.",
         );
     let mut exponent = p.tol.log10().round() as i32;
     if ui

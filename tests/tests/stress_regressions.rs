@@ -1,4 +1,4 @@
-//! Regression tests of the defects the stress suite (`lopin_reference::stress`, README "Numerical
+//! Regression tests of the defects the stress suite (`lopin_reference::stress`, guide "Numerical
 //! stability stress suite") found in the engine, one per defect, each named after what broke and
 //! small enough to run in a few seconds. Each asserts the fixed default against a bound that the
 //! variant the fix replaced (still selectable in `Settings`) breaks, with both measured numbers in

@@ -358,7 +358,7 @@ fn on_samples_around_a_design_point_projected_starts_save_over_nearest_and_cold(
         n as f64 / c as f64
     );
     // measured 265 projected, 348 nearest, 544 cold (0.49 and 0.64); the 100-draw study of the
-    // README takes 594 against 901 and 1,823 (0.326)
+    // the guide takes 594 against 901 and 1,823 (0.326)
     assert!(10 * p <= 9 * n, "projected {p} against nearest {n}");
     assert!(10 * p <= 6 * c, "projected {p} against cold {c}");
     for o in &projected {

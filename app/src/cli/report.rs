@@ -391,7 +391,7 @@ pub fn column_table<S: ToString>(header: impl IntoIterator<Item = S>) -> Table {
     t
 }
 
-/// A Markdown table (for the README).
+/// A Markdown table (for the guide).
 pub fn markdown_table<S: ToString>(header: impl IntoIterator<Item = S>) -> Table {
     let mut t = Table::new();
     t.load_preset(presets::ASCII_MARKDOWN);

@@ -19,7 +19,7 @@ pub struct StressArgs {
     /// Run only the cases of this family.
     #[arg(long, value_enum)]
     group: Option<Group>,
-    /// Print the table as Markdown (for the README).
+    /// Print the table as Markdown (for the guide).
     #[arg(long)]
     markdown: bool,
 }
