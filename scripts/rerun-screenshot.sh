@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Records two-blocks to out/two-blocks.rrd and opens it in the real Rerun viewer (the `rerun`
 # tool of rerun-sdk, installed by scripts/install-readers.sh) under Xvfb with software
-# rendering, bound to loopback, and saves a screenshot of the viewer to docs/rerun.png.
+# rendering, bound to loopback, and saves a screenshot of the viewer to docs/src/figures/rerun.png.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 readers="$(./scripts/install-readers.sh)"
@@ -22,5 +22,5 @@ sleep 1
 timeout 180 "$readers/rerun" --bind 127.0.0.1 out/two-blocks.rrd \
     --window-size 1600x1000 --screenshot-to "$scratch/shot.png" >"$scratch/viewer.log" 2>&1 || true
 [ -s "$scratch/shot.png" ] || { echo "no screenshot; viewer log:"; tail -20 "$scratch/viewer.log"; exit 1; }
-convert "$scratch/shot.png" -resize 1600x1000 docs/rerun.png
-echo "docs/rerun.png written"
+convert "$scratch/shot.png" -resize 1600x1000 docs/src/figures/rerun.png
+echo "docs/src/figures/rerun.png written"

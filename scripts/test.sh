@@ -4,7 +4,9 @@
 # (meshio, the rerun tool) and gmsh (the meshes of assets/meshes/ and the polyhedral granular
 # scenes), runs every test in an optimized build, then starts the real
 # explorer in a window under Xvfb and checks its 3D view is drawn, and finally builds the web
-# explorer (WebAssembly, dist/) and drives it in headless Chromium (scripts/test-web.sh).
+# explorer (WebAssembly, dist/) and drives it in headless Chromium (scripts/test-web.sh), runs
+# every shell block of the user guide's tutorials (scripts/tutorials.py) and builds the guide
+# (scripts/build-docs.sh, mdBook).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ./scripts/install-gui-deps.sh
@@ -21,5 +23,9 @@ cargo test --release --workspace $LOPIN_FEATURES
 # the smoke test runs the binary the tests ran (why: scripts/lopin-bin.sh)
 LOPIN_BIN="$(./scripts/lopin-bin.sh)"
 export LOPIN_BIN
+# the Run command of the README runs this binary while no source is newer (scripts/lopin.sh)
+echo "$LOPIN_BIN" > target/lopin-tested
 ./scripts/explorer-xvfb.sh smoke
 ./scripts/test-web.sh
+python3 scripts/tutorials.py
+./scripts/build-docs.sh

@@ -8,15 +8,105 @@
 //! element matrices, interfaces, scenes, factorization), which is all the monolithic reference of
 //! `lopin-reference` may use.
 //!
-//! ```no_run
-//! use lopin_core::{scene, Parameter, Settings, Solver};
+//! # Solve, change the friction, solve warm, read a field
+//!
+//! A scene comes from the registry of built-in scenes, a TOML file ([`scene::load`]) or code
+//! (next example). [`scene::build::build`] turns it into a [`Problem`] (meshes, substructures,
+//! interfaces); the [`Solver`] factorizes every substructure once and iterates (METHOD §2–§7).
+//! A parameter of the interfaces ([`Parameter`]) changes without a new factorization, and the
+//! next solve restarts from the converged interface state (METHOD §8):
+//!
+//! ```
+//! use lopin_core::{post, scene, Parameter, Settings, Solver};
+//!
 //! let spec = scene::load("two-blocks")?;
 //! let problem = scene::build::build(&spec, "two-blocks")?;
 //! let settings = Settings::for_problem(&problem, &spec.solver);
 //! let mut solver = Solver::new(problem, settings)?;
 //! let cold = solver.solve(None)?;
+//! assert!(cold.converged && cold.eta < 1e-3);
+//!
 //! solver.set_parameter(Parameter::Friction, 0.5)?;
-//! let warm = solver.solve(Some(&cold.state))?; // METHOD §8 warm start
+//! let warm = solver.solve(Some(&cold.state))?;
+//! assert!(warm.converged);
+//!
+//! // displacements and velocities of every substructure at the last step
+//! let last = solver.problem().time.steps;
+//! let fields = post::fields_at(&solver, &warm, last);
+//! // the top block (substructure 0) is pushed down: its largest downward displacement
+//! let down = fields[0].u.chunks(3).map(|u| -u[2]).fold(0.0, f64::max);
+//! assert!(down > 0.0 && down < 1e-3, "{down}");
+//! # Ok::<(), lopin_core::LopinError>(())
+//! ```
+//!
+//! # A scene built in code
+//!
+//! The scene schema ([`scene::spec`]) is plain data: the same tables as a scene file. A steel
+//! cube clamped at the bottom, its top pushed down at 1 m/s through a (1 − cos) ramp, checked by
+//! [`scene::validate::validate`] as a file would be:
+//!
+//! ```
+//! use lopin_core::scene::spec::{BodySpec, BoundarySpec, ComponentSpec, MaterialSpec, SceneSpec};
+//! use lopin_core::time_function::TimeGrid;
+//! use lopin_core::{post, scene, Settings, Solver};
+//!
+//! let cube = BodySpec {
+//!     name: "cube".into(),
+//!     material: "steel".into(),
+//!     min: [0.0; 3],
+//!     max: [0.01; 3],
+//!     divisions: [4, 4, 4],
+//!     split: [1, 1, 2],
+//!     velocity: [0.0; 3],
+//!     elements: None,
+//!     substructures: None,
+//! };
+//! let face = |face: &str| BoundarySpec {
+//!     body: "cube".into(),
+//!     face: face.into(),
+//!     surface: None,
+//!     clamped: false,
+//!     x: None,
+//!     y: None,
+//!     z: None,
+//! };
+//! let spec = SceneSpec {
+//!     name: "cube".into(),
+//!     description: "a pushed steel cube".into(),
+//!     refine_axes: "xyz".into(),
+//!     split_axes: "xy".into(),
+//!     time: TimeGrid { dt: 2e-7, steps: 20 },
+//!     solver: Default::default(),
+//!     materials: vec![MaterialSpec {
+//!         name: "steel".into(),
+//!         young: 210e9,
+//!         poisson: 0.3,
+//!         density: 7800.0,
+//!     }],
+//!     granular: None,
+//!     granular_poly: None,
+//!     bodies: vec![cube],
+//!     mesh_bodies: vec![],
+//!     interfaces: vec![],
+//!     boundaries: vec![
+//!         BoundarySpec { z: Some(ComponentSpec::velocity(-1.0, 1e-6)), ..face("z+") },
+//!         BoundarySpec { clamped: true, ..face("z-") },
+//!     ],
+//!     zones: vec![],
+//! };
+//! scene::validate::validate(&spec, "cube")?;
+//! let problem = scene::build::build(&spec, "cube")?;
+//! assert_eq!(problem.subs.len(), 2);
+//! let settings = Settings::for_problem(&problem, &spec.solver);
+//! let mut solver = Solver::new(problem, settings)?;
+//! let sol = solver.solve(None)?;
+//! assert!(sol.converged);
+//! // the energy balance: the work the load put in is the kinetic plus strain energy
+//! // (the trapezoidal rule conserves energy; LATIN's tolerance leaves a small gap)
+//! let energy = post::energy(&solver, &sol);
+//! let last = spec.time.steps;
+//! let (stored, input) = (energy.total(last), energy.input_work[last]);
+//! assert!(input > 0.0 && (stored - input).abs() <= 0.05 * input, "{stored} against {input}");
 //! # Ok::<(), lopin_core::LopinError>(())
 //! ```
 

@@ -3,7 +3,7 @@
 //! work of their triangular solves; edges: two-sided interfaces weighted by their trace entries,
 //! what crosses between ranks when the edge is cut) by METIS k-way, so that ranks get equal
 //! work and few trace entries cross between them. Reports, per rank, what it holds and what it
-//! sends: the basis of `lopin estimate --ranks P` and of the scaling model of the guide (docs/guide.md).
+//! sends: the basis of `lopin estimate --ranks P` and of the scaling model of the guide (docs/src/mpi.md).
 
 use std::collections::HashSet;
 

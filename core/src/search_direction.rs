@@ -17,6 +17,7 @@ use crate::material::Material;
 use crate::problem::Problem;
 
 /// The shape of the search direction.
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[derive(
     Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize, Hash,
 )]

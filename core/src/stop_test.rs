@@ -5,6 +5,7 @@
 use crate::error::{LopinError, Result};
 
 /// Which indicator ends a window (METHOD §6 stopping test).
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum StopTest {

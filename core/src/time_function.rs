@@ -4,6 +4,7 @@
 use serde::{Deserialize, Serialize};
 
 /// The uniform time grid t_m = m Δt, m = 0..=steps (METHOD §1).
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TimeGrid {
@@ -26,6 +27,7 @@ impl TimeGrid {
 }
 
 /// Shape of a ramp from 0 to the amplitude.
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
 #[serde(rename_all = "lowercase")]
 pub enum Ramp {

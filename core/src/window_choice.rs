@@ -1,7 +1,7 @@
 //! Which time windows a solve uses (METHOD §7), chosen from what the run is for when nobody
 //! asked for a length, and the reason, which the run's report prints.
 //!
-//! The choice follows measurements on the built-in scenes (the guide, docs/guide.md, gives the figures):
+//! The choice follows measurements on the built-in scenes (the guide, docs/src/iterations.md, gives the figures):
 //! for one cold solve of a scene with contact, one-step windows reach a given η in less time than
 //! the whole interval, for an error of the same size against the converged solution; without
 //! contact (`bar`, `bar-bimaterial`) the whole interval reaches the default η < 1e-3 in a few

@@ -11,13 +11,13 @@
 //!   above it. An extrapolation also carries forward the iteration error of the steps it reads,
 //!   about tol each: at η < 1e-1 on `two-blocks` one-step windows, `smooth` took 131 iterations
 //!   with a velocity error of 0.50 where `hold` took 64 with 0.32, at 1e-2 3.3e-2 against 2.9e-2,
-//!   while from 1e-3 down `smooth` is the more accurate and the faster (the guide, docs/guide.md, "Window start").
+//!   while from 1e-3 down `smooth` is the more accurate and the faster (the guide, docs/src/iterations.md, "Window start").
 //!
 //! The smooth slope is the difference of the step averages s̄_{m0−1} − s̄_{m0−2} with
 //! s̄_j = (s_j + s_{j−1})/2, so the undamped rule's alternating mode (−1)^m c (METHOD §10) does
 //! not enter it, where `linear` carries it forward doubled. `linear` and `smooth` need three
 //! converged steps before m0 (m0 ≥ 3, step 0 being the initial state); before that they hold.
-//! Measured in the guide (docs/guide.md, "Window start").
+//! Measured in the guide (docs/src/iterations.md, "Window start").
 
 use crate::error::{LopinError, Result};
 
@@ -25,6 +25,7 @@ use crate::error::{LopinError, Result};
 pub const EXTRAPOLATE_BELOW: f64 = 1e-3;
 
 /// How a cold window's input is predicted.
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum WindowStart {

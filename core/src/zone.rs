@@ -33,6 +33,7 @@ impl Zone {
 }
 
 /// The zone block of a scene file.
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ZoneSpec {

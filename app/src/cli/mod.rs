@@ -5,6 +5,7 @@ mod accuracy_plot;
 mod bench;
 mod checkpoint;
 mod compare;
+mod docs;
 mod estimate;
 mod export;
 mod mesh;
@@ -75,6 +76,9 @@ enum Command {
     Completions(shell::CompletionsArgs),
     /// Print the man page of `lopin`, or write one page per command into a folder.
     Man(shell::ManArgs),
+    /// Print a reference of the user guide: the scene file's keys (`scene`), its JSON schema
+    /// (`schema`) or the command line (`cli`).
+    Docs(docs::DocsArgs),
 }
 
 /// Runs the chosen subcommand.
@@ -110,6 +114,7 @@ pub fn dispatch(cli: Cli) -> anyhow::Result<std::process::ExitCode> {
         Some(Command::ExportScene { name }) => scenes::export(&name),
         Some(Command::Completions(args)) => shell::completions(&args),
         Some(Command::Man(args)) => shell::man(&args),
+        Some(Command::Docs(args)) => docs::docs(&args),
         None => view::view(&view::ViewArgs::default()),
     }
 }

@@ -22,6 +22,7 @@ use crate::scene::spec::{
 use crate::splitmix::SplitMix64;
 
 /// The `[granular]` table: the generator's parameters.
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct GranularSpec {

@@ -16,6 +16,7 @@ use crate::scene::spec::{
 };
 
 /// The `[granular_poly]` table: the generator's parameters.
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct GranularPolySpec {

@@ -11,6 +11,8 @@ mod face_index;
 pub mod granular;
 pub mod granular_poly;
 pub mod mesh_bodies;
+#[cfg(feature = "schema")]
+pub mod reference;
 pub mod registry;
 pub mod spec;
 pub mod validate;

@@ -12,6 +12,7 @@ use crate::scene::granular_poly::GranularPolySpec;
 use crate::time_function::{Ramp, TimeGrid};
 
 /// A whole scene.
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SceneSpec {
@@ -69,6 +70,7 @@ fn default_split_axes() -> String {
 }
 
 /// Optional solver settings carried by a scene.
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SolverSpec {
@@ -113,6 +115,7 @@ pub struct SolverSpec {
 }
 
 /// A named material.
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MaterialSpec {
@@ -127,6 +130,7 @@ pub struct MaterialSpec {
 }
 
 /// A box-shaped body.
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct BodySpec {
@@ -161,6 +165,7 @@ pub struct BodySpec {
 
 /// A body taken from a Gmsh MSH 4.1 file: the cells of one physical volume, one substructure or
 /// `substructures` cut by the graph partitioner.
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MeshBodySpec {
@@ -191,6 +196,7 @@ impl MeshBodySpec {
 }
 
 /// The element kind of a box body's mesh.
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum ElementKind {
@@ -206,6 +212,7 @@ fn ones() -> [usize; 3] {
 }
 
 /// Kind of junction between two bodies.
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum InterfaceKind {
@@ -218,6 +225,7 @@ pub enum InterfaceKind {
 }
 
 /// Override for the junction between two bodies.
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct InterfaceSpec {
@@ -238,6 +246,7 @@ pub struct InterfaceSpec {
 }
 
 /// A boundary condition on one face of a body's box.
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct BoundarySpec {
@@ -268,6 +277,7 @@ fn is_false(b: &bool) -> bool {
 }
 
 /// A prescribed velocity or traction on one component, with its ramp.
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ComponentSpec {

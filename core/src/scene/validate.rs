@@ -394,7 +394,8 @@ fn validate_expanded(spec: &SceneSpec, source: &str, generated: Generated) -> Re
             return err(
                 format!("boundary[{i}].surface"),
                 format!(
-                    "`{}` is a box body: its boundaries name a `face` (x-, x+, y-, y+, z-, z+);                      physical surfaces belong to [[mesh_body]] bodies",
+                    "`{}` is a box body: its boundaries name a `face` (x-, x+, y-, y+, z-, z+); \
+                     physical surfaces belong to [[mesh_body]] bodies",
                     bc.body
                 ),
             );

@@ -23,7 +23,7 @@
 //!
 //! Where it pays: on the whole interval with a dissipative scheme (ρ∞ < 1), the 11 × 11
 //! f × gap grid of `two-blocks` takes 686 iterations against 979 from the nearest state and
-//! 2,121 cold (the guide, docs/guide.md, "Studies"). With the undamped rule the alternating mode of METHOD §10
+//! 2,121 cold (the guide, docs/src/studies.md). With the undamped rule the alternating mode of METHOD §10
 //! makes the distance a poor guide (the same grid: 7,146 against 5,643), and on one-step
 //! windows each window already starts from the nearest state's converged step.
 

@@ -1,0 +1,28 @@
+//! A friction study in a few lines: `two-blocks` solved cold at f = 0.3, then warm at each
+//! friction coefficient from 0 to 0.6, each solve restarting from the previous converged
+//! interface state (METHOD §8), with the peak normal contact force and the largest slip of each.
+//!
+//! `cargo run --release -p lopin-core --example friction_study`
+
+use lopin_core::{post, scene, Parameter, Settings, Solver};
+
+fn main() -> lopin_core::Result<()> {
+    let spec = scene::load("two-blocks")?;
+    let problem = scene::build::build(&spec, "two-blocks")?;
+    let settings = Settings::for_problem(&problem, &spec.solver);
+    let mut solver = Solver::new(problem, settings)?;
+    let mut state = solver.solve(None)?.state;
+    println!("    f  iterations  peak normal force (N)  max slip (m)");
+    for i in 0..=6 {
+        let f = 0.1 * i as f64;
+        solver.set_parameter(Parameter::Friction, f)?;
+        let sol = solver.solve(Some(&state))?;
+        let summary = post::summary(&solver, &sol);
+        println!(
+            "{f:5.2}  {:10}  {:21.4e}  {:12.4e}",
+            sol.iterations, summary.peak_normal_force, summary.max_slip
+        );
+        state = sol.state;
+    }
+    Ok(())
+}
