@@ -22,8 +22,8 @@
 
 use crate::distribution::Distribution;
 use crate::interface::Interface;
+pub use crate::scene::settings::StopTest;
 use crate::state::{InterfaceState, TraceHistory};
-pub use crate::stop_test::StopTest;
 
 /// The η̄ sums of steps m0..=m1: the terms of η on the step averages
 /// ((x_m + x_{m−1})/2) of the linear-stage output `s_new` (per substructure trace) and ŝ (per

@@ -3,10 +3,10 @@
 //! with Coulomb friction, boundary conditions). The method is specified in METHOD.md; each module
 //! names the sections it implements.
 //!
-//! The LATIN iteration (solver, stages, state, macro problem, post-processing, sweeps) sits behind
-//! the default `latin` feature; without it the crate holds only the problem description (meshes,
-//! element matrices, interfaces, scenes, factorization), which is all the monolithic reference of
-//! `lopin-reference` may use.
+//! The problem it solves (meshes, elements, materials, interfaces, scenes, factorization) is the
+//! crate `lopin-model`, which the monolithic reference of `lopin-reference` builds on too; its
+//! modules are re-exported here (`lopin_core::scene` is `lopin_model::scene`), so a user of the
+//! solver needs one dependency.
 //!
 //! # Solve, change the friction, solve warm, read a field
 //!
@@ -111,79 +111,39 @@
 //! ```
 
 pub mod acceleration;
-pub mod box_sweep;
-pub mod counters;
-pub mod dense;
-pub mod detect;
-#[cfg(feature = "latin")]
 pub mod dissipation;
-#[cfg(feature = "latin")]
 pub mod distribution;
-pub mod error;
-#[cfg(feature = "latin")]
 pub mod estimate;
-pub mod factor;
-#[cfg(feature = "msh")]
-pub mod gmsh;
-pub mod grain_geometry;
-pub mod hex8;
-pub mod histories;
-#[cfg(feature = "latin")]
 pub mod indicator;
-pub mod interface;
-#[cfg(feature = "latin")]
 pub mod linear_stage;
-#[cfg(feature = "latin")]
 pub mod local_stage;
-#[cfg(feature = "latin")]
 pub mod macro_basis;
-#[cfg(feature = "latin")]
 pub mod macro_problem;
-pub mod material;
-pub mod mesh;
-#[cfg(feature = "msh")]
-pub mod msh;
-#[cfg(feature = "latin")]
 pub mod operator_classes;
-#[cfg(feature = "latin")]
 mod par;
-pub mod parameter;
-#[cfg(feature = "partition")]
-pub mod partition;
-#[cfg(feature = "latin")]
 pub mod post;
-pub mod problem;
 #[cfg(feature = "partition")]
 pub mod rank_assignment;
 pub mod ranks;
-pub mod scene;
-pub mod search_direction;
-#[cfg(feature = "latin")]
 pub mod solver;
-pub mod sparse;
-pub mod splitmix;
-#[cfg(feature = "latin")]
 pub mod state;
-pub mod stop_test;
-#[cfg(feature = "latin")]
 pub mod study;
-pub mod substructure;
-pub mod surface_groups;
-#[cfg(feature = "latin")]
 pub mod sweep;
-pub mod tet4;
-#[cfg(feature = "latin")]
 pub mod thread_ranks;
-pub mod time_function;
-pub mod time_scheme;
 pub mod window_choice;
-pub mod window_start;
-pub mod zone;
+
+#[cfg(feature = "partition")]
+pub use lopin_model::partition;
+pub use lopin_model::{
+    box_sweep, counters, dense, detect, error, factor, grain_geometry, hex8, histories, interface,
+    material, mesh, parameter, problem, scene, search_direction, sparse, splitmix, substructure,
+    surface_groups, tet4, time_function, time_scheme, zone,
+};
+#[cfg(feature = "msh")]
+pub use lopin_model::{gmsh, msh};
 
 pub use error::{LopinError, Result};
 pub use parameter::Parameter;
 pub use problem::Problem;
-#[cfg(feature = "latin")]
 pub use solver::{Control, Iterate, Settings, Solution, SolveRun, Solver};
-#[cfg(feature = "latin")]
 pub use state::InterfaceState;

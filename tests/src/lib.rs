@@ -15,7 +15,7 @@ use lopin_core::scene::spec::SolverSpec;
 use lopin_core::scene::{self, SceneSpec};
 use lopin_core::time_function::TimeGrid;
 use lopin_core::{Settings, Solution, Solver};
-use lopin_reference::compare::{compare, Comparison};
+use lopin_judge::compare::{compare, Comparison};
 use lopin_reference::monolithic::Monolithic;
 use mono1d::{Chain, Contact};
 

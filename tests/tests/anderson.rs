@@ -6,7 +6,7 @@
 
 use lopin_core::scene;
 use lopin_core::{Settings, Solver};
-use lopin_reference::compare::compare;
+use lopin_judge::compare::compare;
 use lopin_reference::monolithic::Monolithic;
 
 fn solve(anderson: usize) -> (Solver, lopin_core::Solution) {

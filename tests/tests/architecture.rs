@@ -2,7 +2,8 @@
 //! test file has its line in its crate's section, so that a module added without saying what it
 //! holds fails here. A module is described by a row of its own (`` `scene::validate` ``), by a
 //! row of its parent that names it (`` `export` `` naming `` `export::vtu` ``), or, for a folder
-//! module, by the rows of its submodules; the web crate's rows name files.
+//! module, by the rows of its submodules; the web crate's rows name files. The manifests keep the
+//! two wings apart: the model names no Lopin crate, the reference the model and not the solver.
 
 use std::path::{Path, PathBuf};
 
@@ -109,8 +110,10 @@ fn every_module_and_test_file_has_its_line_in_architecture_md() {
     let doc = std::fs::read_to_string(root.join("ARCHITECTURE.md")).expect("ARCHITECTURE.md");
     let mut missing = Vec::new();
     for (dir, heading) in [
+        ("model", "## `lopin-model` modules"),
         ("core", "## `lopin-core` modules"),
         ("reference", "## `lopin-reference` modules"),
+        ("judge", "## `lopin-judge` modules"),
         ("explorer", "## `lopin-explorer` modules"),
         ("app", "## `lopin` (app) modules"),
         ("tests", "## `lopin-tests`"),
@@ -139,4 +142,45 @@ fn every_module_and_test_file_has_its_line_in_architecture_md() {
         "ARCHITECTURE.md has no line for:\n  {}",
         missing.join("\n  ")
     );
+}
+
+/// The dependencies a manifest's `[dependencies]` table names.
+fn dependencies(manifest: &str) -> Vec<String> {
+    let text = std::fs::read_to_string(root().join(manifest)).expect("manifest");
+    let table = text
+        .split("\n[dependencies]\n")
+        .nth(1)
+        .expect("a [dependencies] table");
+    let table = table.split("\n[").next().unwrap_or(table);
+    table
+        .lines()
+        .filter_map(|l| {
+            let name = l.split(['=', '.', ' ']).next()?.trim();
+            (!name.is_empty() && !name.starts_with('#')).then(|| name.to_string())
+        })
+        .collect()
+}
+
+/// The two wings: the model knows no solver, the reference knows the model and not the LATIN
+/// solver, the judges see both.
+#[test]
+fn the_reference_depends_on_the_model_and_not_on_the_solver() {
+    let model = dependencies("model/Cargo.toml");
+    assert!(!model.iter().any(|d| d.starts_with("lopin")), "{model:?}");
+    let reference = dependencies("reference/Cargo.toml");
+    assert!(
+        reference.contains(&"lopin-model".to_string()),
+        "{reference:?}"
+    );
+    assert!(
+        !reference.contains(&"lopin-core".to_string()),
+        "{reference:?}"
+    );
+    let judge = dependencies("judge/Cargo.toml");
+    for d in ["lopin-core", "lopin-reference"] {
+        assert!(judge.contains(&d.to_string()), "{judge:?}");
+    }
+    let core = dependencies("core/Cargo.toml");
+    assert!(core.contains(&"lopin-model".to_string()), "{core:?}");
+    assert!(!core.contains(&"lopin-reference".to_string()), "{core:?}");
 }

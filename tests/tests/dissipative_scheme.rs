@@ -11,7 +11,7 @@ use lopin_core::post;
 use lopin_core::scene::{self, SceneSpec};
 use lopin_core::time_scheme::TimeScheme;
 use lopin_core::{Settings, Solver};
-use lopin_reference::compare::compare;
+use lopin_judge::compare::compare;
 use lopin_reference::exact::{l2_error, BarExact};
 use lopin_reference::monolithic::Monolithic;
 

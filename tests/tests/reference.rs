@@ -4,7 +4,7 @@
 
 use lopin_core::scene::{self, SceneSpec};
 use lopin_core::{Parameter, Settings, Solver};
-use lopin_reference::compare::compare;
+use lopin_judge::compare::compare;
 use lopin_reference::monolithic::Monolithic;
 
 const TOL: f64 = 1e-9;

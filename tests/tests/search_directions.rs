@@ -9,7 +9,7 @@
 use lopin_core::scene::{self, SceneSpec};
 use lopin_core::search_direction::Directions;
 use lopin_core::{Settings, Solver};
-use lopin_reference::compare::compare;
+use lopin_judge::compare::compare;
 use lopin_reference::monolithic::Monolithic;
 
 fn solver_for(spec: &SceneSpec, directions: Directions, two_scale: bool, tol: f64) -> Solver {

@@ -1,6 +1,6 @@
 //! The smooth indicator η̄ (`lopin_core::indicator::smooth_sums`: η on step-averaged fields) and
 //! the comparison metrics the undamped rule's alternating mode cannot touch
-//! (`lopin_reference::compare`), on `two-blocks-ramp` over the whole interval, where the mode
+//! (`lopin_judge::compare`), on `two-blocks-ramp` over the whole interval, where the mode
 //! stalls η. Measured on this code: stopping on η at 1e-3 takes 302 iterations,
 //! stopping on η̄ at 1e-3 takes 59; against the reference the η̄-stopped solution has
 //! displacements within 6.0e-5, contact normal forces within 1.1e-6 and step-averaged velocities
@@ -11,7 +11,7 @@
 use lopin_core::indicator::StopTest;
 use lopin_core::scene;
 use lopin_core::{Settings, Solver};
-use lopin_reference::compare::compare;
+use lopin_judge::compare::compare;
 use lopin_reference::monolithic::Monolithic;
 
 fn solver(stop: StopTest, tol: f64) -> Solver {

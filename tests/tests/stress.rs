@@ -5,7 +5,7 @@
 //! §6 relaxation replaced by the mixing of `core/src/acceleration.rs`): the acceleration must not
 //! cost any case its stability. `lopin stress` runs the longer set.
 
-use lopin_reference::stress::{self, StressCase};
+use lopin_judge::stress::{self, StressCase};
 
 fn run_all(cases: Vec<StressCase>) -> Vec<stress::StressOutcome> {
     let mut failures = Vec::new();

@@ -1,12 +1,12 @@
-//! Regression tests of the defects the stress suite (`lopin_reference::stress`, guide "Numerical
+//! Regression tests of the defects the stress suite (`lopin_judge::stress`, guide "Numerical
 //! stability stress suite") found in the engine, one per defect, each named after what broke and
 //! small enough to run in a few seconds. Each asserts the fixed default against a bound that the
 //! variant the fix replaced (still selectable in `Settings`) breaks, with both measured numbers in
 //! its doc; where that is cheap, the test also runs the old variant to show the defect.
 
 use lopin_core::post;
+use lopin_core::scene::settings::WindowStart;
 use lopin_core::scene::{self, SceneSpec};
-use lopin_core::window_start::WindowStart;
 use lopin_tests::solve;
 
 fn test_scene(name: &str) -> SceneSpec {

@@ -6,7 +6,7 @@
 use lopin_core::interface::Law;
 use lopin_core::scene::{self, SceneSpec};
 use lopin_core::{Control, InterfaceState, Settings, Solver};
-use lopin_reference::compare::compare;
+use lopin_judge::compare::compare;
 use lopin_reference::monolithic::Monolithic;
 use lopin_tests::{rel_diff, velocity_history};
 

@@ -5,9 +5,9 @@
 //! reference to the same accuracy.
 
 use lopin_core::scene;
-use lopin_core::window_start::WindowStart;
+use lopin_core::scene::settings::WindowStart;
 use lopin_core::{Settings, Solver};
-use lopin_reference::compare::compare;
+use lopin_judge::compare::compare;
 use lopin_reference::monolithic::Monolithic;
 
 fn solve(start: WindowStart, tol: f64) -> (Solver, lopin_core::Solution) {

@@ -1,4 +1,4 @@
-//! Zones by physical surface (`core/src/zone.rs`, `core/src/surface_groups.rs`): a
+//! Zones by physical surface (`model/src/zone.rs`, `model/src/surface_groups.rs`): a
 //! zone naming physical surfaces of a Gmsh mesh holds the contact interfaces on them, the
 //! contact between two bodies being split by surface. A column of two steel cubes (2 cm, 4 × 4
 //! × 4 cells of six tetrahedra each, an MSH 4.1 file), in frictional contact on the face between

@@ -22,9 +22,9 @@ use anyhow::Context;
 use clap::Args;
 use lopin_core::counters::Instant;
 use lopin_core::indicator::StopTest;
-use lopin_core::window_start::WindowStart;
+use lopin_core::scene::settings::WindowStart;
 use lopin_core::{post, Settings, Solution, Solver};
-use lopin_reference::compare::{compare, Comparison};
+use lopin_judge::compare::{compare, Comparison};
 use lopin_reference::exact::{l2_error, BarExact};
 use lopin_reference::monolithic::Monolithic;
 

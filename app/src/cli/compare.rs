@@ -1,7 +1,7 @@
 //! `lopin compare`: LATIN and the monolithic reference on the same scene and options, and the
 //! relative differences of nodal velocities and step-averaged interface forces, and of the
 //! quantities the undamped rule's alternating mode cannot touch: displacements, step-averaged
-//! velocities, total energy and contact normal forces (`lopin_reference::compare`).
+//! velocities, total energy and contact normal forces (`lopin_judge::compare`).
 
 use std::process::ExitCode;
 
@@ -9,7 +9,7 @@ use anyhow::Context;
 use clap::Args;
 use lopin_core::counters::Instant;
 use lopin_core::{post, Solver};
-use lopin_reference::compare::compare;
+use lopin_judge::compare::compare;
 use serde::Serialize;
 
 use super::reference::{MonolithicReport, ReferenceRun};

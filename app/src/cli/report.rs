@@ -111,7 +111,7 @@ pub struct LatinSettings {
     /// Anderson depth (0: plain relaxation).
     pub anderson: usize,
     /// Where cold windows start.
-    pub window_start: lopin_core::window_start::WindowStart,
+    pub window_start: lopin_core::scene::settings::WindowStart,
     /// Why these windows (absent where the command set them itself).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub window_reason: Option<String>,

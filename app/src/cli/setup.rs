@@ -7,9 +7,9 @@ use lopin_core::counters::Instant;
 use lopin_core::estimate::Estimate;
 use lopin_core::indicator::StopTest;
 use lopin_core::scene::admission::{admit, Footprint, SolveShape};
+use lopin_core::scene::settings::WindowStart;
 use lopin_core::search_direction::Directions;
 use lopin_core::window_choice::{choose, Task, WindowChoice, WindowRequest};
-use lopin_core::window_start::WindowStart;
 use lopin_core::{scene, LopinError, Parameter, Problem, Settings, Solver};
 
 fn parse_directions(s: &str) -> Result<Directions, String> {

@@ -7,7 +7,7 @@ use std::process::ExitCode;
 
 use clap::{Args, ValueEnum};
 use comfy_table::CellAlignment;
-use lopin_reference::stress::{self, StressOutcome};
+use lopin_judge::stress::{self, StressOutcome};
 
 use super::report::{column_table, markdown_table};
 

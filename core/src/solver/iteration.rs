@@ -18,7 +18,7 @@
 //!    (METHOD §6), or its Anderson-accelerated form ([`crate::acceleration`]);
 //! 5. [`SolveRun::end_of_window`]: η < tol (or η̄ < tol, as [`Settings::stop`] says) moves to
 //!    the next window, a cold one starting from a prediction out of the converged steps
-//!    ([`Settings::window_start`], [`crate::window_start`]); a non-finite η or the iteration
+//!    ([`Settings::window_start`], [`crate::scene::settings`]); a non-finite η or the iteration
 //!    limit ends the solve unconverged.
 //!
 //! In a distributed run ([`crate::distribution`]) the same stages run on every rank over what it
@@ -488,7 +488,7 @@ impl SolveRun {
     /// reached, the window goes on (a non-finite η has ended the solve before this stage). Otherwise its end states (substructures
     /// from the last linear stage, contacts from the last local stage) start the next window, a
     /// cold next window starts from a prediction out of the converged steps
-    /// ([`crate::window_start`]), and an unconverged
+    /// ([`crate::scene::settings`]), and an unconverged
     /// window ends the solve. Returns whether the solve has ended.
     pub(crate) fn end_of_window(
         &mut self,

@@ -4,9 +4,9 @@
 use crate::error::{LopinError, Result};
 use crate::indicator::StopTest;
 use crate::problem::Problem;
+use crate::scene::settings::WindowStart;
 use crate::scene::spec::SolverSpec;
 use crate::search_direction::Directions;
-use crate::window_start::WindowStart;
 
 /// Solver settings (METHOD §10 defaults: k = mean √(ρE), μ = 0.8, tol = 1e-3).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]

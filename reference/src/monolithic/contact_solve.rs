@@ -10,7 +10,7 @@
 //! condition exactly, then the tangential one exactly for fixed P (a secular equation in λ).
 
 use super::delassus::Delassus;
-use lopin_core::error::{LopinError, Result};
+use lopin_model::error::{LopinError, Result};
 
 /// Iteration controls of the contact solve.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -5,8 +5,8 @@
 //! the free solution and D to state the contact problem on the pairs.
 
 use super::assembly::Assembled;
-use lopin_core::factor::CholeskyFactor;
-use lopin_core::mesh::Vec3;
+use lopin_model::factor::CholeskyFactor;
+use lopin_model::mesh::Vec3;
 
 /// Columns per blocked solve.
 const BLOCK: usize = 48;

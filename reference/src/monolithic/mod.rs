@@ -22,11 +22,11 @@ pub use delassus::Delassus;
 pub use march::MonoSolution;
 pub use numbering::Numbering;
 
-use lopin_core::counters::Instant;
-use lopin_core::error::{LopinError, Result};
-use lopin_core::factor::CholeskyFactor;
-use lopin_core::parameter::Parameter;
-use lopin_core::problem::Problem;
+use lopin_model::counters::Instant;
+use lopin_model::error::{LopinError, Result};
+use lopin_model::factor::CholeskyFactor;
+use lopin_model::parameter::Parameter;
+use lopin_model::problem::Problem;
 
 /// A factorized monolithic reference solver.
 #[derive(Debug)]

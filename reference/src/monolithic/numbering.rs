@@ -3,9 +3,9 @@
 //! material), while the two sides of a contact interface stay separate nodes (METHOD §1: one copy
 //! per side; §5 contact acts between them).
 
-use lopin_core::error::{LopinError, Result};
-use lopin_core::interface::Law;
-use lopin_core::problem::Problem;
+use lopin_model::error::{LopinError, Result};
+use lopin_model::interface::Law;
+use lopin_model::problem::Problem;
 
 /// Map from (substructure, local node) to the node of the assembled structure.
 #[derive(Debug, Clone, PartialEq)]

@@ -8,9 +8,9 @@
 use std::borrow::Cow;
 
 use super::{MonoSolution, Monolithic};
-use lopin_core::histories::{ContactHistory, EnergyHistory, Summary};
-use lopin_core::interface::Law;
-use lopin_core::mesh::{dot, Vec3};
+use lopin_model::histories::{ContactHistory, EnergyHistory, Summary};
+use lopin_model::interface::Law;
+use lopin_model::mesh::{dot, Vec3};
 
 impl Monolithic {
     /// The acceleration the equation of motion of step m holds: ā_m = (1 − α_m) a_m + α_m a_{m−1}

@@ -98,15 +98,15 @@ pub struct SolverSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub directions: Option<crate::search_direction::Directions>,
     /// Which indicator ends a window: `eta` (METHOD §6) or `smooth` (η̄ on step-averaged
-    /// fields, [`crate::indicator`]); absent: eta.
+    /// fields, `lopin_core::indicator`); absent: eta.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub stop: Option<crate::stop_test::StopTest>,
+    pub stop: Option<crate::scene::settings::StopTest>,
     /// Where a cold time window's iteration starts: `zero`, `hold`, `linear`, `smooth` or
-    /// `auto` ([`crate::window_start`]); absent: auto.
+    /// `auto` ([`crate::scene::settings`]); absent: auto.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub window_start: Option<crate::window_start::WindowStart>,
+    pub window_start: Option<crate::scene::settings::WindowStart>,
     /// Depth of the Anderson acceleration of the relaxation (absent or 0: plain relaxation,
-    /// [`crate::acceleration`]).
+    /// `lopin_core::acceleration`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub anderson: Option<usize>,
     /// Two-scale linear stage with the macro problem of METHOD §9 (absent: off).

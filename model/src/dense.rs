@@ -1,5 +1,5 @@
 //! Small dense symmetric positive definite solves (Cholesky, row-major): the Anderson mixing's
-//! least-squares normal equations (a few unknowns, [`crate::acceleration`]) and element-level
+//! least-squares normal equations (a few unknowns, `lopin_core::acceleration`) and element-level
 //! checks in tests. Sparse systems go through [`crate::factor`].
 
 /// Solves A x = b for a symmetric positive definite A (row-major n×n, n = b.len()).

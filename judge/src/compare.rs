@@ -17,7 +17,7 @@ use lopin_core::interface::Law;
 use lopin_core::post::{contact, energy, replay};
 use lopin_core::solver::{Solution, Solver};
 
-use crate::monolithic::{MonoSolution, Monolithic};
+use lopin_reference::monolithic::{MonoSolution, Monolithic};
 
 /// Relative differences LATIN − reference.
 #[derive(Debug, Clone, Copy, PartialEq)]

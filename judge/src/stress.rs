@@ -23,7 +23,7 @@ use lopin_core::post;
 use lopin_core::scene::{self, SceneSpec};
 use lopin_core::solver::{Settings, Solver};
 
-use crate::monolithic::Monolithic;
+use lopin_reference::monolithic::Monolithic;
 
 /// Relative energy bound of converged discrete solutions.
 pub const ENERGY_BOUND: f64 = 1e-6;

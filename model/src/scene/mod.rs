@@ -14,6 +14,7 @@ pub mod mesh_bodies;
 #[cfg(feature = "schema")]
 pub mod reference;
 pub mod registry;
+pub mod settings;
 pub mod spec;
 pub mod validate;
 

@@ -1,5 +1,5 @@
 //! The plain result types of a transient solve, shared by the LATIN post-processing
-//! ([`crate::post`], which re-exports them) and the monolithic reference of `lopin-reference`:
+//! (`lopin_core::post`, which re-exports them) and the monolithic reference of `lopin-reference`:
 //! the energy balance of the exact discrete identity of METHOD §2, contact histories (METHOD §5:
 //! pressure, gap, slip, step-averaged normal force) and the headline numbers of a run. They hold
 //! numbers only and depend on nothing of the LATIN iteration.

@@ -1,3 +1,9 @@
+//! The iteration settings a scene file names besides numbers (its `[solver]` table,
+//! [`super::spec::SolverSpec`]): the stopping test and the start of a cold time window.
+//!
+//! The stopping test (METHOD §6): η on the fields themselves, or η̄ on their step averages,
+//! which the undamped rule's alternating mode (METHOD §10) does not enter.
+//!
 //! Where a cold time window's iteration starts (METHOD §7): the linear-stage input s = (F, W)
 //! on the window's steps m0..=m1, predicted from the converged steps before it. With
 //! n = m − m0 + 1 the step's distance from the last converged step m0 − 1:
@@ -8,18 +14,51 @@
 //! * `smooth`: s_m = s_{m0−1} + n (s_{m0−1} − s_{m0−3}) / 2 (extrapolated along the mean slope of
 //!   the last two steps);
 //! * `auto` (the default): `smooth` when the tolerance is at most [`EXTRAPOLATE_BELOW`], `hold`
-//!   above it. An extrapolation also carries forward the iteration error of the steps it reads,
-//!   about tol each: at η < 1e-1 on `two-blocks` one-step windows, `smooth` took 131 iterations
-//!   with a velocity error of 0.50 where `hold` took 64 with 0.32, at 1e-2 3.3e-2 against 2.9e-2,
-//!   while from 1e-3 down `smooth` is the more accurate and the faster (the guide, docs/src/iterations.md, "Window start").
+//!   above it: an extrapolation also carries forward the iteration error of the steps it reads,
+//!   about tol each, which outweighs its gain at loose tolerances (the guide,
+//!   docs/src/iterations.md, "Window start", gives the measurements).
 //!
 //! The smooth slope is the difference of the step averages s̄_{m0−1} − s̄_{m0−2} with
-//! s̄_j = (s_j + s_{j−1})/2, so the undamped rule's alternating mode (−1)^m c (METHOD §10) does
-//! not enter it, where `linear` carries it forward doubled. `linear` and `smooth` need three
-//! converged steps before m0 (m0 ≥ 3, step 0 being the initial state); before that they hold.
-//! Measured in the guide (docs/src/iterations.md, "Window start").
+//! s̄_j = (s_j + s_{j−1})/2, so the alternating mode (−1)^m c does not enter it, where `linear`
+//! carries it forward doubled. `linear` and `smooth` need three converged steps before m0
+//! (m0 ≥ 3, step 0 being the initial state); before that they hold. The LATIN solver applies
+//! them (`lopin_core::solver`).
 
 use crate::error::{LopinError, Result};
+
+/// Which indicator ends a window (METHOD §6 stopping test).
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum StopTest {
+    /// η on the fields themselves (METHOD §6 as written).
+    #[default]
+    Eta,
+    /// η̄ on step-averaged fields: blind to the alternating mode.
+    Smooth,
+}
+
+impl StopTest {
+    /// Parses `eta` or `smooth`.
+    pub fn parse(name: &str) -> Result<Self> {
+        match name {
+            "eta" => Ok(Self::Eta),
+            "smooth" => Ok(Self::Smooth),
+            _ => Err(LopinError::setting(
+                "stop",
+                format!("unknown stopping test `{name}` (eta, smooth)"),
+            )),
+        }
+    }
+
+    /// Name.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::Eta => "eta",
+            Self::Smooth => "smooth",
+        }
+    }
+}
 
 /// The loosest tolerance at which `auto` extrapolates.
 pub const EXTRAPOLATE_BELOW: f64 = 1e-3;

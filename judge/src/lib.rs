@@ -1,0 +1,26 @@
+//! `lopin-judge`: the LATIN solver of `lopin-core` judged against the monolithic reference of
+//! `lopin-reference`: the comparison of a LATIN solution with the reference ([`compare`]) and
+//! the numerical stability stress suite ([`stress`]: adverse settings on small scenes, each
+//! solve checked against the reference). It is the one crate that sees both solvers; the
+//! reference itself depends on the model only (`lopin-model`).
+//!
+//! ```
+//! use lopin_core::{scene, Settings, Solver};
+//! use lopin_judge::compare::compare;
+//! use lopin_reference::monolithic::Monolithic;
+//!
+//! let spec = scene::load("two-blocks")?;
+//! let problem = scene::build::build(&spec, "two-blocks")?;
+//! let reference = Monolithic::new(problem.clone())?;
+//! let mono = reference.solve()?;
+//! let mut settings = Settings::for_problem(&problem, &spec.solver);
+//! settings.tol = 1e-6;
+//! let mut solver = Solver::new(problem, settings)?;
+//! let sol = solver.solve(None)?;
+//! let c = compare(&solver, &sol, &reference, &mono);
+//! assert!(c.rel_diff_velocity < 1e-3 && c.rel_diff_force < 1e-3, "{c:?}");
+//! # Ok::<(), lopin_core::LopinError>(())
+//! ```
+
+pub mod compare;
+pub mod stress;
