@@ -8,8 +8,9 @@
 mod readers;
 
 use lopin_app::record::entity_name;
+use lopin_core::elements::hex8;
 use lopin_core::window_choice::{choose, Task, WindowRequest};
-use lopin_core::{hex8, post, scene, Settings, Solver};
+use lopin_core::{post, scene, Settings, Solver};
 use readers::{free_port, lopin, read_rrd, read_vtu, scratch};
 
 /// two-blocks solved here, as the binary solves it.

@@ -10,7 +10,7 @@
 //! together on a converged solve: the conservation law the tests check. A study's quantity of
 //! interest.
 
-use crate::interface::Law;
+use crate::interfaces::interface::Law;
 use crate::mesh::{dot, Vec3};
 use crate::solver::{Solution, Solver};
 

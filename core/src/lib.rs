@@ -47,7 +47,7 @@
 //!
 //! ```
 //! use lopin_core::scene::spec::{BodySpec, BoundarySpec, ComponentSpec, MaterialSpec, SceneSpec};
-//! use lopin_core::time_function::TimeGrid;
+//! use lopin_core::time::time_function::TimeGrid;
 //! use lopin_core::{post, scene, Settings, Solver};
 //!
 //! let cube = BodySpec {
@@ -110,37 +110,23 @@
 //! # Ok::<(), lopin_core::LopinError>(())
 //! ```
 
-pub mod acceleration;
 pub mod dissipation;
-pub mod distribution;
+pub mod distributed;
 pub mod estimate;
-pub mod indicator;
-pub mod linear_stage;
-pub mod local_stage;
-pub mod macro_basis;
-pub mod macro_problem;
-pub mod operator_classes;
+pub mod macro_scale;
 mod par;
 pub mod post;
-#[cfg(feature = "partition")]
-pub mod rank_assignment;
-pub mod ranks;
 pub mod solver;
+pub mod stages;
 pub mod state;
 pub mod study;
 pub mod sweep;
-pub mod thread_ranks;
 pub mod window_choice;
 
-#[cfg(feature = "partition")]
-pub use lopin_model::partition;
 pub use lopin_model::{
-    box_sweep, counters, dense, detect, error, factor, grain_geometry, hex8, histories, interface,
-    material, mesh, parameter, problem, scene, search_direction, sparse, splitmix, substructure,
-    surface_groups, tet4, time_function, time_scheme, zone,
+    counters, elements, error, histories, interfaces, linalg, mesh, parameter, problem, scene,
+    splitmix, substructure, time,
 };
-#[cfg(feature = "msh")]
-pub use lopin_model::{gmsh, msh};
 
 pub use error::{LopinError, Result};
 pub use parameter::Parameter;

@@ -3,16 +3,16 @@
 //! step wanted. Energies use the exact discrete identity of METHOD §2: the work of the boundary
 //! forces is ((1 − γ) F_{m−1} + γ F_m)·(u_m − u_{m−1}) (½ (F_m + F_{m−1})·Δt/2 (W_m + W_{m−1})
 //! for the trapezoidal rule, γ = ½); with a dissipative scheme E_m − E_0 − W_m is minus the
-//! energy the scheme removed, never positive ([`crate::time_scheme`]); interface forces are
+//! energy the scheme removed, never positive ([`crate::time::time_scheme`]); interface forces are
 //! reported as step averages (F_m + F_{m−1})/2 (METHOD §2, §10 "force ringing").
 
 use crate::counters::Instant;
-use crate::hex8;
-use crate::interface::Law;
-use crate::linear_stage::{linear_stage, LinearInput, LinearWork, StepVisitor};
+use crate::elements::hex8;
+use crate::interfaces::interface::Law;
 use crate::mesh::{dot, Element, Vec3};
 use crate::par;
 use crate::solver::{Solution, Solver};
+use crate::stages::linear_stage::{linear_stage, LinearInput, LinearWork, StepVisitor};
 use crate::state::TraceHistory;
 use crate::substructure::{SideRef, Substructure};
 
@@ -192,7 +192,7 @@ pub fn stress_of(sub: &Substructure, element: &Element, u: &[f64]) -> [f64; 6] {
 pub fn tet_stress(sub: &Substructure, nodes: &[usize; 4], u: &[f64]) -> [f64; 6] {
     let x: [Vec3; 4] = std::array::from_fn(|a| sub.mesh.nodes[nodes[a]]);
     let ue: [f64; 12] = std::array::from_fn(|d| u[3 * nodes[d / 3] + d % 3]);
-    crate::tet4::stress(&x, &sub.material, &ue)
+    crate::elements::tet4::stress(&x, &sub.material, &ue)
 }
 
 /// Stress tensor (Voigt) at the centre of one hexahedron `nodes` of `sub` for displacements `u`.
@@ -301,14 +301,14 @@ pub fn energy(solver: &Solver, sol: &Solution) -> EnergyHistory {
 }
 
 /// Contact histories of every contact interface, from a solution that holds ŝ of all of them
-/// (one machine, or rank 0 after [`crate::distribution::Distribution::gather_to_root`]).
+/// (one machine, or rank 0 after [`crate::distributed::distribution::Distribution::gather_to_root`]).
 pub fn contact(solver: &Solver, sol: &Solution) -> Vec<ContactHistory> {
     contact_where(solver, sol, &|_| true)
 }
 
 /// [`contact`] in a distributed run, called by every rank: each contact interface's history is
 /// computed on the rank that holds the interface and summed over the ranks (the others add −0,
-/// [`crate::ranks`]), so every rank gets every history, equal bit for bit to [`contact`] on one
+/// [`crate::distributed::ranks`]), so every rank gets every history, equal bit for bit to [`contact`] on one
 /// machine.
 pub fn gathered_contact(solver: &Solver, sol: &Solution) -> Vec<ContactHistory> {
     let dist = solver.distribution();

@@ -9,15 +9,15 @@
 //! 1. [`SolveRun::local_stage`]: E+ on every interface (METHOD §5);
 //! 2. [`SolveRun::linear_stage`]: E− on every substructure, single- or two-scale (METHOD §4, §9;
 //!    [`linear`], [`two_scale`], [`skip_cache`]);
-//! 3. [`SolveRun::indicator`]: η of the window (METHOD §6–7; [`crate::indicator`]);
+//! 3. [`SolveRun::indicator`]: η of the window (METHOD §6–7; [`crate::stages::indicator`]);
 //! 4. [`SolveRun::relaxation`]: s ← μ s_new + (1 − μ) s (METHOD §6);
 //! 5. [`SolveRun::end_of_window`]: the window test, and the next window's start (METHOD §7).
 //!
 //! [`Solver::begin`] / [`Solver::step`] / [`Solver::finish`] let a caller without threads advance
 //! a solve a few iterations at a time.
 //!
-//! [`Solver::new_distributed`] runs the same iteration on several ranks ([`crate::ranks`]):
-//! each factorizes and marches only the substructures [`crate::distribution`] deals it, and
+//! [`Solver::new_distributed`] runs the same iteration on several ranks ([`crate::distributed::ranks`]):
+//! each factorizes and marches only the substructures [`crate::distributed::distribution`] deals it, and
 //! reaches the same iterates, η and decisions as the run on one machine.
 
 pub mod iteration;
@@ -35,17 +35,17 @@ pub use solution::{Control, Iterate, Solution};
 use std::sync::Arc;
 
 use crate::counters::{Counters, Instant, IterationRecord};
-use crate::distribution::Distribution;
+use crate::distributed::distribution::Distribution;
+use crate::distributed::ranks::Ranks;
 use crate::error::{LopinError, Result};
-use crate::factor::CholeskyFactor;
-use crate::linear_stage::LinearWork;
-use crate::macro_problem::MacroProblem;
-use crate::operator_classes::{factor_classes, Classes};
+use crate::interfaces::search_direction;
+use crate::linalg::factor::CholeskyFactor;
+use crate::macro_scale::macro_problem::MacroProblem;
+use crate::macro_scale::operator_classes::{factor_classes, Classes};
 use crate::par;
 use crate::parameter::Parameter;
 use crate::problem::Problem;
-use crate::ranks::Ranks;
-use crate::search_direction;
+use crate::stages::linear_stage::LinearWork;
 use crate::state::InterfaceState;
 use linear::{LinearStage, SingleScale};
 use two_scale::TwoScale;
@@ -72,15 +72,15 @@ pub struct Solver {
 
 impl Solver {
     /// Assembles and factorizes S = c_M M + c_K K + k Bᵀ A B (2/Δt M + Δt/2 K + k Bᵀ A B for the
-    /// trapezoidal rule, [`crate::time_scheme`]) once per class of identical
-    /// substructures ([`crate::operator_classes`]), and the macro problem if the settings ask
+    /// trapezoidal rule, [`crate::time::time_scheme`]) once per class of identical
+    /// substructures ([`crate::macro_scale::operator_classes`]), and the macro problem if the settings ask
     /// for the two-scale linear stage.
     pub fn new(problem: Problem, settings: Settings) -> Result<Self> {
         Self::on_ranks(problem, settings, None)
     }
 
     /// The solver of one rank of a distributed run: the substructures are dealt to the ranks
-    /// ([`crate::distribution::deal`]), and this rank factorizes and marches only its own. Every
+    /// ([`crate::distributed::distribution::deal`]), and this rank factorizes and marches only its own. Every
     /// rank must make it, with the same problem and settings. Anderson acceleration, which
     /// mixes all substructures' histories, is refused on more than one rank.
     pub fn new_distributed(
@@ -171,11 +171,11 @@ impl Solver {
         Ok(())
     }
 
-    /// Changes the time scheme of the problem (METHOD §2, [`crate::time_scheme`]): S changes, so
+    /// Changes the time scheme of the problem (METHOD §2, [`crate::time::time_scheme`]): S changes, so
     /// every class is refactorized and the macro problem rebuilt if the two-scale stage runs. A
     /// warm start from a state of another scheme is legitimate (it is only a start). On an error
     /// the solver keeps its previous scheme.
-    pub fn set_scheme(&mut self, scheme: crate::time_scheme::TimeScheme) -> Result<()> {
+    pub fn set_scheme(&mut self, scheme: crate::time::time_scheme::TimeScheme) -> Result<()> {
         scheme
             .check()
             .map_err(|reason| LopinError::setting("rho_inf", reason))?;

@@ -3,7 +3,7 @@
 //! displacement and velocity, and von Mises stress averaged from element centres to nodes.
 //! Also the history of one node for the probe.
 
-use lopin_core::hex8;
+use lopin_core::elements::hex8;
 use lopin_core::mesh::{Element, Mesh};
 use lopin_core::post;
 use lopin_core::{Solution, Solver};

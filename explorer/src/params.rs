@@ -6,8 +6,8 @@
 //! the direction shape changes (the macro problem is built the first time it is switched on, and
 //! again after such a change).
 
-use lopin_core::search_direction::Directions;
-use lopin_core::time_scheme::TimeScheme;
+use lopin_core::interfaces::search_direction::Directions;
+use lopin_core::time::time_scheme::TimeScheme;
 use lopin_core::{Parameter, Problem, Settings, Solver};
 use std::sync::Arc;
 

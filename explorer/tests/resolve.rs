@@ -213,9 +213,9 @@ fn the_scheme_and_direction_controls_reach_the_solver() {
     let (problem, mut settings) = two_blocks();
     settings.tol = 1e-4;
     let mut engine_problem = problem.clone();
-    engine_problem.scheme = lopin_core::time_scheme::TimeScheme::new(0.5);
+    engine_problem.scheme = lopin_core::time::time_scheme::TimeScheme::new(0.5);
     let mut engine_settings = settings;
-    engine_settings.directions = lopin_core::search_direction::Directions::Wave;
+    engine_settings.directions = lopin_core::interfaces::search_direction::Directions::Wave;
     let engine = Solver::new(engine_problem, engine_settings)
         .expect("engine")
         .solve(None)

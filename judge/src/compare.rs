@@ -13,7 +13,7 @@
 //! energy ½vᵀMv + ½uᵀKu per step (the mode carries kinetic energy, so this one sees what of it
 //! is left) and the step-averaged normal force of each contact interface (METHOD §5).
 
-use lopin_core::interface::Law;
+use lopin_core::interfaces::interface::Law;
 use lopin_core::post::{contact, energy, replay};
 use lopin_core::solver::{Solution, Solver};
 

@@ -17,8 +17,8 @@
 //! `quick()` is the CI test set; `full()` adds the longer cases run by `lopin stress`.
 
 use lopin_core::counters::Instant;
+use lopin_core::elements::material::Material;
 use lopin_core::error::Result;
-use lopin_core::material::Material;
 use lopin_core::post;
 use lopin_core::scene::{self, SceneSpec};
 use lopin_core::solver::{Settings, Solver};

@@ -17,7 +17,7 @@ pub struct IterationRecord {
     pub window_end: usize,
     /// Error indicator η after this iteration.
     pub eta: f64,
-    /// The smooth indicator η̄ (step-averaged fields, `lopin_core::indicator::smooth_sums`).
+    /// The smooth indicator η̄ (step-averaged fields, `lopin_core::stages::indicator::smooth_sums`).
     pub eta_smooth: f64,
     /// Seconds in the local stage.
     pub local_s: f64,

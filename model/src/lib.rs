@@ -15,36 +15,19 @@
 //! # Ok::<(), lopin_model::LopinError>(())
 //! ```
 
-pub mod box_sweep;
 pub mod counters;
-pub mod dense;
-pub mod detect;
+pub mod elements;
 pub mod error;
-pub mod factor;
-#[cfg(feature = "msh")]
-pub mod gmsh;
-pub mod grain_geometry;
-pub mod hex8;
 pub mod histories;
-pub mod interface;
-pub mod material;
+pub mod interfaces;
+pub mod linalg;
 pub mod mesh;
-#[cfg(feature = "msh")]
-pub mod msh;
 pub mod parameter;
-#[cfg(feature = "partition")]
-pub mod partition;
 pub mod problem;
 pub mod scene;
-pub mod search_direction;
-pub mod sparse;
 pub mod splitmix;
 pub mod substructure;
-pub mod surface_groups;
-pub mod tet4;
-pub mod time_function;
-pub mod time_scheme;
-pub mod zone;
+pub mod time;
 
 pub use error::{LopinError, Result};
 pub use parameter::Parameter;

@@ -5,7 +5,7 @@
 //! monolithic reference all go through it.
 
 use crate::error::{LopinError, Result};
-use crate::interface::{DofLaw, Law};
+use crate::interfaces::interface::{DofLaw, Law};
 use crate::problem::Problem;
 
 /// A parameter of the interfaces' laws.
@@ -122,11 +122,11 @@ impl Parameter {
         self.check(value)?;
         match self {
             Self::VelocityAmplitude => {
-                let slowest = crate::material::slowest(problem.subs.iter().map(|s| {
+                let slowest = crate::elements::material::slowest(problem.subs.iter().map(|s| {
                     let name = &problem.materials[s.material_id].name;
                     (s.material.bar_speed(), name.as_str())
                 }));
-                crate::material::check_small_strain_speed(value, slowest)
+                crate::elements::material::check_small_strain_speed(value, slowest)
                     .map_err(|reason| LopinError::setting("v0", reason))?;
             }
             Self::Gap => {

@@ -2,11 +2,11 @@
 //! interface parameters that can change without refactorizing anything (friction, gap;
 //! METHOD §8).
 
-use crate::interface::{BoundaryDof, Interface, Law};
-use crate::material::Material;
+use crate::elements::material::Material;
+use crate::interfaces::interface::{BoundaryDof, Interface, Law};
 use crate::substructure::Substructure;
-use crate::time_function::TimeGrid;
-use crate::time_scheme::{StepCoefficients, TimeScheme};
+use crate::time::time_function::TimeGrid;
+use crate::time::time_scheme::{StepCoefficients, TimeScheme};
 
 /// A material of the scene, with the name its bodies refer to it by.
 #[derive(Debug, Clone, PartialEq)]
@@ -35,8 +35,8 @@ pub struct Problem {
     /// Sign of every boundary dof's prescribed velocity as built (per interface, per dof), so
     /// that the amplitude can be swept through zero.
     pub velocity_signs: Vec<Vec<f64>>,
-    /// Named groups of interfaces with parameters of their own ([`crate::zone`]).
-    pub zones: Vec<crate::zone::Zone>,
+    /// Named groups of interfaces with parameters of their own ([`crate::interfaces::zone`]).
+    pub zones: Vec<crate::interfaces::zone::Zone>,
 }
 
 impl Problem {
@@ -64,7 +64,7 @@ impl Problem {
     /// Length of the diagonal of the box holding every substructure (m).
     pub fn diameter(&self) -> f64 {
         let boxes: Vec<_> = self.subs.iter().map(|s| s.mesh.bounding_box()).collect();
-        crate::detect::model_diameter(&boxes)
+        crate::interfaces::detect::model_diameter(&boxes)
     }
 
     /// Number of contact interfaces.

@@ -7,13 +7,13 @@ use std::sync::Arc;
 
 use faer::sparse::Triplet;
 
-use crate::factor::FactorFailure;
-use crate::hex8;
-use crate::material::Material;
+use crate::elements::hex8;
+use crate::elements::material::Material;
+use crate::elements::tet4;
+use crate::linalg::factor::FactorFailure;
+use crate::linalg::sparse::SymmetricMatrix;
 use crate::mesh::{Element, Mesh, Vec3};
-use crate::sparse::SymmetricMatrix;
-use crate::tet4;
-use crate::time_scheme::StepCoefficients;
+use crate::time::time_scheme::StepCoefficients;
 
 /// A substructure with its assembled mass and stiffness.
 #[derive(Debug, Clone)]
@@ -40,7 +40,7 @@ pub struct Substructure {
     /// Area A of each trace entry.
     pub trace_area: Vec<f64>,
     /// Search direction factor per trace dof (k_j = k · trace_k[j]; all 1 for the scalar k,
-    /// [`crate::search_direction`]).
+    /// [`crate::interfaces::search_direction`]).
     pub trace_k: Vec<f64>,
     /// The interface sides whose dofs make up the trace, in trace order.
     pub sides: Vec<SideRef>,
@@ -198,7 +198,7 @@ impl Substructure {
     }
 
     /// Lower-triangle triplets of S = c_M M + c_K K + Bᵀ A K B, K = k diag(trace_k) (METHOD §4; 2/Δt M + Δt/2 K for
-    /// the trapezoidal rule, [`crate::time_scheme`]).
+    /// the trapezoidal rule, [`crate::time::time_scheme`]).
     pub fn operator_triplets(
         &self,
         time: &StepCoefficients,

@@ -2,13 +2,13 @@
 //! d'Alembert's v(x, t) = V(t − x/c) behind the front, 0 ahead of it, with c = √(E/ρ) and V the
 //! velocity prescribed at x = 0; used to show the discretization floor of the accuracy study.
 
-use lopin_model::interface::{DofLaw, Law};
+use lopin_model::interfaces::interface::{DofLaw, Law};
 use lopin_model::Problem;
 
 /// The analytic x-velocity field of a 1D bar driven at x = 0.
 pub struct BarExact {
     c: f64,
-    drive: lopin_model::time_function::TimeFunction,
+    drive: lopin_model::time::time_function::TimeFunction,
 }
 
 impl BarExact {

@@ -7,7 +7,7 @@ use lopin_core::scene::spec::{
     BodySpec, BoundarySpec, ComponentSpec, InterfaceKind, InterfaceSpec, MaterialSpec, SceneSpec,
     SolverSpec,
 };
-use lopin_core::time_function::{Ramp, TimeGrid};
+use lopin_core::time::time_function::{Ramp, TimeGrid};
 use lopin_core::{Solution, Solver};
 
 /// One body of the chain.

@@ -13,7 +13,7 @@ use lopin_core::post;
 use lopin_core::problem::Problem;
 use lopin_core::scene::spec::SolverSpec;
 use lopin_core::scene::{self, SceneSpec};
-use lopin_core::time_function::TimeGrid;
+use lopin_core::time::time_function::TimeGrid;
 use lopin_core::{Settings, Solution, Solver};
 use lopin_judge::compare::{compare, Comparison};
 use lopin_reference::monolithic::Monolithic;
@@ -231,7 +231,7 @@ pub struct ContactPair {
 pub fn contact_pairs(p: &Problem) -> Vec<ContactPair> {
     let mut out = Vec::new();
     for iface in &p.interfaces {
-        let lopin_core::interface::Law::Contact(c) = &iface.law else {
+        let lopin_core::interfaces::interface::Law::Contact(c) = &iface.law else {
             continue;
         };
         let sides = iface.sides[0].nodes.iter().zip(&iface.sides[1].nodes);

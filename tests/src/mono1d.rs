@@ -4,7 +4,7 @@
 //! at each step with the persistent normal law of METHOD §5 (a scalar complementarity problem,
 //! since each chain's response to the contact force is linear). Tridiagonal solves by Thomas.
 
-use lopin_core::time_function::TimeFunction;
+use lopin_core::time::time_function::TimeFunction;
 
 /// A chain of nodes joined by springs.
 #[derive(Debug, Clone)]

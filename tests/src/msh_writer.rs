@@ -1,5 +1,5 @@
 //! Writes small Gmsh MSH 4.1 files, ASCII or binary, from a description, so that the mesh input
-//! (`lopin_core::msh`) is tested on both encodings without gmsh installed. It follows the
+//! (`lopin_core::mesh::msh`) is tested on both encodings without gmsh installed. It follows the
 //! format as Gmsh documents it (`$MeshFormat`, `$PhysicalNames`, `$Entities`, `$Nodes`,
 //! `$Elements`; binary: little-endian, 4-byte int, 8-byte size_t and double). Entities carry no
 //! bounding entities and a zero bounding box: Lopin reads only their physical tags.

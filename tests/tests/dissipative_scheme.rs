@@ -1,4 +1,4 @@
-//! The dissipative time scheme (Bossak–Newmark, ρ∞ < 1; `lopin_core::time_scheme`) end to end:
+//! The dissipative time scheme (Bossak–Newmark, ρ∞ < 1; `lopin_core::time::time_scheme`) end to end:
 //! LATIN and the monolithic reference solve the same discrete problem (velocities and
 //! step-averaged interface forces agree to 1e-6 at η < 1e-9, as for the trapezoidal rule); with
 //! perfect interfaces and boundary conditions the energy never grows beyond the work put in (the
@@ -9,7 +9,7 @@
 
 use lopin_core::post;
 use lopin_core::scene::{self, SceneSpec};
-use lopin_core::time_scheme::TimeScheme;
+use lopin_core::time::time_scheme::TimeScheme;
 use lopin_core::{Settings, Solver};
 use lopin_judge::compare::compare;
 use lopin_reference::exact::{l2_error, BarExact};

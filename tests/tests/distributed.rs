@@ -1,5 +1,5 @@
-//! Distributed runs (`core/src/distribution.rs`, `core/src/ranks.rs`) on ranks that
-//! are threads of this process (`core/src/thread_ranks.rs`): the same scene solved on 1, 2, 3
+//! Distributed runs (`core/src/distributed/distribution.rs`, `core/src/distributed/ranks.rs`) on ranks that
+//! are threads of this process (`core/src/distributed/thread_ranks.rs`): the same scene solved on 1, 2, 3
 //! and 4 ranks takes the same number of iterations, reaches the same η and gives the same
 //! interface fields (F, W) and ŝ, bit for bit, as the solver on one machine: on
 //! `two-blocks --split 2` (the whole interval and one-step windows), on `granular-small`
@@ -11,10 +11,11 @@
 
 use std::sync::Arc;
 
+use lopin_core::distributed::ranks::Ranks;
+use lopin_core::distributed::thread_ranks;
 use lopin_core::post;
-use lopin_core::ranks::Ranks;
 use lopin_core::scene::{self, SceneSpec};
-use lopin_core::{thread_ranks, Parameter, Settings, Solution, Solver};
+use lopin_core::{Parameter, Settings, Solution, Solver};
 
 fn spec(name: &str, split: usize) -> SceneSpec {
     let mut spec = scene::registry::builtin(name).expect("scene");

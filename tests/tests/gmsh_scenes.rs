@@ -1,5 +1,5 @@
 //! Scenes meshed by gmsh: `.geo` scripts of `assets/meshes/` meshed on first use
-//! (cached by their content, [`lopin_core::gmsh`]) and named by scene files of
+//! (cached by their content, [`lopin_core::mesh::gmsh`]) and named by scene files of
 //! `assets/scenes/gmsh/`. These tests need the `gmsh` program (the README's test command
 //! installs it); without it they fail with the message saying how to install it.
 //!
@@ -202,7 +202,7 @@ fn a_missing_physical_surface_and_a_broken_script_are_clear_errors() {
     std::fs::create_dir_all(&dir).expect("temp dir");
     let geo = dir.join("broken.geo");
     std::fs::write(&geo, "Box(1) = {0, 0, 0, 1, 1;\n").expect("write");
-    let e = lopin_core::gmsh::mesh_geo_file(&geo)
+    let e = lopin_core::mesh::gmsh::mesh_geo_file(&geo)
         .expect_err("a broken script does not mesh")
         .to_string();
     assert!(e.contains("broken.geo") && e.contains("gmsh failed"), "{e}");

@@ -10,7 +10,7 @@
 //!   6.0e-7, force 3.0e-7, in 16,883 whole-interval iterations).
 //! * Bad tables are errors naming the field, before anything is meshed.
 
-use lopin_core::interface::Law;
+use lopin_core::interfaces::interface::Law;
 use lopin_core::post;
 use lopin_core::scene::{self, SceneSpec};
 use lopin_tests::{against_reference, solve, solve_problem};

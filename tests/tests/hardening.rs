@@ -6,7 +6,7 @@
 //! counted from the scene is checked against the built problem's own estimate.
 
 use lopin_core::estimate::Estimate;
-use lopin_core::interface::{DofLaw, Law};
+use lopin_core::interfaces::interface::{DofLaw, Law};
 use lopin_core::scene::admission::{admit, footprint, SolveShape};
 use lopin_core::{scene, LopinError, Parameter, Settings, Solver};
 use lopin_tests::{assert_clear_errors, asset};

@@ -4,7 +4,7 @@
 
 use lopin_core::post;
 use lopin_core::scene::settings::WindowStart;
-use lopin_core::time_function::{Ramp, TimeFunction, TimeGrid};
+use lopin_core::time::time_function::{Ramp, TimeFunction, TimeGrid};
 use lopin_tests::bar1d::{Bar1d, Segment};
 use lopin_tests::mono1d::{self, Chain};
 use lopin_tests::{elements_along_x, impact_2a, plateau, solve};

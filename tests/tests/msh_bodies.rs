@@ -12,18 +12,19 @@
 //!   two substructures along z), the same discrete problem: velocities and energies equal to
 //!   1e-9 relative.
 
-use lopin_core::detect::{
+use lopin_core::elements::material::Material;
+use lopin_core::interfaces::detect::{
     assemble_traces, boundary_interface, boundary_interface_on, detect_interfaces, PairRule,
 };
-use lopin_core::interface::{BoundaryDof, DofLaw};
-use lopin_core::material::Material;
+use lopin_core::interfaces::interface::{BoundaryDof, DofLaw};
+use lopin_core::mesh::msh;
 use lopin_core::problem::{NamedMaterial, Problem};
 use lopin_core::scene;
 use lopin_core::scene::spec::{ComponentSpec, ElementKind};
 use lopin_core::substructure::Substructure;
-use lopin_core::time_function::{Ramp, TimeFunction, TimeGrid};
-use lopin_core::time_scheme::TimeScheme;
-use lopin_core::{msh, post, Solver};
+use lopin_core::time::time_function::{Ramp, TimeFunction, TimeGrid};
+use lopin_core::time::time_scheme::TimeScheme;
+use lopin_core::{post, Solver};
 use lopin_tests::msh_writer::{stacked_cubes, write};
 use lopin_tests::{against_reference, solve_problem};
 

@@ -1,12 +1,12 @@
-//! Gmsh MSH 4.1 input (`lopin_core::msh`): the same mesh written as ASCII and as
+//! Gmsh MSH 4.1 input (`lopin_core::mesh::msh`): the same mesh written as ASCII and as
 //! binary reads to the same nodes, cells, facets and physical groups; volumes are exact; mixed
 //! tetrahedra and hexahedra are read; and every kind of bad input is a clear error naming the
 //! file and what is wrong (never a panic): a missing file, MSH 2.2, an unknown version, a
 //! truncated file, an unsupported element type, an inverted element, a node that does not exist,
 //! a physical name the file lacks, a `$MeshFormat` header the third-party parser would crash on.
 
+use lopin_core::mesh::msh;
 use lopin_core::mesh::Element;
-use lopin_core::msh;
 use lopin_tests::msh_writer::{unit_cube_tets, write};
 
 #[test]

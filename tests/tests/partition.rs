@@ -14,7 +14,7 @@
 
 use std::collections::HashMap;
 
-use lopin_core::macro_basis::MacroBasis;
+use lopin_core::macro_scale::macro_basis::MacroBasis;
 use lopin_core::post;
 use lopin_core::scene::spec::ElementKind;
 use lopin_core::scene::{self, SceneSpec};

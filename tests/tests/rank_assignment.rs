@@ -1,4 +1,4 @@
-//! Dealing substructures to the ranks of a distributed run (`core/src/rank_assignment.rs`):
+//! Dealing substructures to the ranks of a distributed run (`core/src/distributed/rank_assignment.rs`):
 //! on `granular-small` (64 substructures) and `two-blocks --split 5` (50), for 1 to 8 ranks,
 //! every substructure has one rank, the loads add up to the problem, the largest rank holds at
 //! most 1.25 times the mean dofs, and METIS cuts fewer trace entries between ranks than dealing
@@ -6,8 +6,8 @@
 //! 3,072 trace entries cut against 4,608 round-robin, on 8 ranks 4,608 against 9,216;
 //! `two-blocks --split 5` on 4 ranks 2,646 against 9,990 (largest rank 1.04× the mean dofs).
 
-use lopin_core::operator_classes::factor_classes;
-use lopin_core::rank_assignment::assign;
+use lopin_core::distributed::rank_assignment::assign;
+use lopin_core::macro_scale::operator_classes::factor_classes;
 use lopin_core::scene;
 
 #[test]

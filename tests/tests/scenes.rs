@@ -6,7 +6,7 @@
 
 use std::time::Instant;
 
-use lopin_core::interface::Law;
+use lopin_core::interfaces::interface::Law;
 use lopin_core::scene::granular::{self, Layout};
 use lopin_core::{post, scene, Control, LopinError, Parameter, Problem, Settings, Solver};
 use lopin_tests::{assert_clear_errors, asset, rel_diff, solve, velocity_history};
@@ -623,12 +623,12 @@ fn granular_paper_builds_with_shared_operators() {
     let s = clock.elapsed().as_secs_f64();
     let contact = p.contact_count();
     let boundary = p.interfaces.iter().filter(|i| i.is_boundary()).count();
-    let stiffness: std::collections::HashSet<*const lopin_core::sparse::SymmetricMatrix> = p
-        .subs
-        .iter()
-        .map(|s| std::sync::Arc::as_ptr(&s.stiffness))
-        .collect();
-    let classes = lopin_core::operator_classes::factor_classes(&p.subs);
+    let stiffness: std::collections::HashSet<*const lopin_core::linalg::sparse::SymmetricMatrix> =
+        p.subs
+            .iter()
+            .map(|s| std::sync::Arc::as_ptr(&s.stiffness))
+            .collect();
+    let classes = lopin_core::macro_scale::operator_classes::factor_classes(&p.subs);
     println!(
         "granular-paper: built in {s:.2} s: {} substructures, {} dofs; interfaces: {contact} \
          contact, {} perfect, {boundary} boundary, {} in all; {} stiffness matrices, {} \

@@ -1,4 +1,4 @@
-//! Wave-matched search directions (`lopin_core::search_direction`, ρc_p along the interface
+//! Wave-matched search directions (`lopin_core::interfaces::search_direction`, ρc_p along the interface
 //! normal, ρc_s across it): the direction changes the iteration, never the solution. LATIN with
 //! the wave direction converges to the monolithic reference (velocities and step-averaged forces
 //! within 1e-6 at η < 1e-9) on perfect interfaces between two materials (`bar-bimaterial`), on
@@ -6,8 +6,8 @@
 //! whose macro operator L_E = k Êᵀ A s Ê − k² Êᵀ A s B Z_E reads the direction); switching the
 //! direction on a solver gives the iterations of a solver built with it.
 
+use lopin_core::interfaces::search_direction::Directions;
 use lopin_core::scene::{self, SceneSpec};
-use lopin_core::search_direction::Directions;
 use lopin_core::{Settings, Solver};
 use lopin_judge::compare::compare;
 use lopin_reference::monolithic::Monolithic;

@@ -1,4 +1,4 @@
-//! The smooth indicator η̄ (`lopin_core::indicator::smooth_sums`: η on step-averaged fields) and
+//! The smooth indicator η̄ (`lopin_core::stages::indicator::smooth_sums`: η on step-averaged fields) and
 //! the comparison metrics the undamped rule's alternating mode cannot touch
 //! (`lopin_judge::compare`), on `two-blocks-ramp` over the whole interval, where the mode
 //! stalls η. Measured on this code: stopping on η at 1e-3 takes 302 iterations,
@@ -8,8 +8,8 @@
 //! 8.8e-4 (the mode's share). Both converge to the same solution: at η < 1e-8, η̄ < 1e-8 too.
 //! On time windows, η̄ measures a window's first step on its own fields and converges.
 
-use lopin_core::indicator::StopTest;
 use lopin_core::scene;
+use lopin_core::stages::indicator::StopTest;
 use lopin_core::{Settings, Solver};
 use lopin_judge::compare::compare;
 use lopin_reference::monolithic::Monolithic;

@@ -2,7 +2,7 @@
 //! finite values, η below its tolerance (or, where the case allows it, a clear "not converged"),
 //! energy within the bounds of the module doc, and no interpenetration beyond the law's bound.
 //! The same suite runs again with Anderson acceleration of depth 5 (`[solver] anderson`, METHOD
-//! §6 relaxation replaced by the mixing of `core/src/acceleration.rs`): the acceleration must not
+//! §6 relaxation replaced by the mixing of `core/src/stages/acceleration.rs`): the acceleration must not
 //! cost any case its stability. `lopin stress` runs the longer set.
 
 use lopin_judge::stress::{self, StressCase};

@@ -11,7 +11,7 @@ use std::sync::Mutex;
 use lopin_core::scene;
 use lopin_core::study::runner::{self, Outcome, Predictor, RunOptions};
 use lopin_core::study::{projection, Chains, Design, Path, Sampling, Spread, Target};
-use lopin_core::time_scheme::TimeScheme;
+use lopin_core::time::time_scheme::TimeScheme;
 use lopin_core::{Settings, Solver};
 
 fn run(chains: usize, cold: bool) -> Vec<Outcome> {

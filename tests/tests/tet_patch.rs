@@ -1,15 +1,15 @@
-//! Patch test of the linear tetrahedron (`lopin_core::tet4`): on an irregular
+//! Patch test of the linear tetrahedron (`lopin_core::elements::tet4`): on an irregular
 //! tetrahedral mesh of a cube (3 × 3 × 3 cells, each split into 6 tetrahedra along its main
 //! diagonal, the 8 interior nodes moved by up to 0.3 of a cell in every direction), the
 //! displacement u = E x prescribed on the boundary nodes must give u = E x at the interior nodes
 //! and the stress D ε(E) in every element, to 1e-12 relative: a conforming element reproduces
 //! any uniform strain state exactly.
 
-use lopin_core::dense::solve_spd;
-use lopin_core::material::{voigt_strain, Material};
+use lopin_core::elements::material::{voigt_strain, Material};
+use lopin_core::elements::tet4;
+use lopin_core::linalg::dense::solve_spd;
 use lopin_core::mesh::Vec3;
 use lopin_core::mesh::KUHN_PATHS;
-use lopin_core::tet4;
 
 const N: usize = 4; // nodes per edge
 

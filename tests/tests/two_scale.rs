@@ -3,7 +3,7 @@
 //! interface after every linear stage (perfect and contact interfaces), and identical
 //! substructures share one factorization and one homogenized operator.
 
-use lopin_core::interface::Law;
+use lopin_core::interfaces::interface::Law;
 use lopin_core::scene::{self, SceneSpec};
 use lopin_core::{Control, InterfaceState, Settings, Solver};
 use lopin_judge::compare::compare;

@@ -1,4 +1,4 @@
-//! Zones (`model/src/zone.rs`): contact interfaces grouped by body pairs or by a box in
+//! Zones (`model/src/interfaces/zone.rs`): contact interfaces grouped by body pairs or by a box in
 //! the scene file, each zone's friction its own parameter. On a stack of three blocks (steel on
 //! aluminium on aluminium, two contact interfaces that share no node, zones `upper` and
 //! `lower`): the same value in both zones is the uniform setting bit for bit; f = 0.1 above and

@@ -1,4 +1,4 @@
-//! Zones by physical surface (`model/src/zone.rs`, `model/src/surface_groups.rs`): a
+//! Zones by physical surface (`model/src/interfaces/zone.rs`, `model/src/interfaces/surface_groups.rs`): a
 //! zone naming physical surfaces of a Gmsh mesh holds the contact interfaces on them, the
 //! contact between two bodies being split by surface. A column of two steel cubes (2 cm, 4 × 4
 //! × 4 cells of six tetrahedra each, an MSH 4.1 file), in frictional contact on the face between
@@ -13,7 +13,7 @@
 //!   problem to 1e-6 (LATIN at η < 1e-9), and its friction work lies between the uniform runs';
 //! * a surface no mesh file defines, or one that holds no contact, is refused naming the field.
 
-use lopin_core::interface::Law;
+use lopin_core::interfaces::interface::Law;
 use lopin_core::problem::Problem;
 use lopin_core::scene;
 use lopin_core::study::Target;

@@ -79,8 +79,12 @@ pub fn estimate(args: &EstimateArgs) -> anyhow::Result<std::process::ExitCode> {
     let window = built.windows.window.unwrap_or(solver.problem().time.steps);
     let ranks = wanted_ranks
         .map(|p| {
-            lopin_core::rank_assignment::assign(solver.problem(), &solver.classes().of, p)
-                .map_err(|r| anyhow::anyhow!("{source}: --ranks {p}: {r}"))
+            lopin_core::distributed::rank_assignment::assign(
+                solver.problem(),
+                &solver.classes().of,
+                p,
+            )
+            .map_err(|r| anyhow::anyhow!("{source}: --ranks {p}: {r}"))
         })
         .transpose()?;
     if args.json {
@@ -128,7 +132,7 @@ pub fn estimate(args: &EstimateArgs) -> anyhow::Result<std::process::ExitCode> {
 
 /// The table of `--ranks P`: per rank its substructures, dofs, factorizations, cut interfaces
 /// and the bytes it sends per iteration over a window of `window` steps.
-fn print_ranks(a: &lopin_core::rank_assignment::RankAssignment, window: usize) {
+fn print_ranks(a: &lopin_core::distributed::rank_assignment::RankAssignment, window: usize) {
     println!(
         "  {} ranks (METIS on the substructure graph): largest rank {:.3}x the mean dofs, {} \
          interfaces cut between ranks",
@@ -166,7 +170,7 @@ struct EstimateReport<'a> {
     measured: Option<Measured<'a>>,
     /// `--ranks P`: the substructures dealt to ranks.
     #[serde(skip_serializing_if = "Option::is_none")]
-    ranks: Option<&'a lopin_core::rank_assignment::RankAssignment>,
+    ranks: Option<&'a lopin_core::distributed::rank_assignment::RankAssignment>,
     /// Steps of the window the bytes sent per iteration are counted over.
     #[serde(skip_serializing_if = "Option::is_none")]
     window_steps: Option<usize>,

@@ -1,4 +1,4 @@
-//! `lopin mesh info FILE.msh`: reads a Gmsh MSH 4.1 file (ASCII or binary, `lopin_core::msh`),
+//! `lopin mesh info FILE.msh`: reads a Gmsh MSH 4.1 file (ASCII or binary, `lopin_core::mesh::msh`),
 //! checks every element, and prints what Lopin sees: nodes, cells and facets by type, the
 //! bounding box, and each physical group with its element count and volume or area (`--json`:
 //! the same as one object). A file Lopin cannot use is an error naming it and the reason.
@@ -8,8 +8,8 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Args, Subcommand};
+use lopin_core::mesh::msh::{self, MshMesh};
 use lopin_core::mesh::{bounding_box_of, Element};
-use lopin_core::msh::{self, MshMesh};
 use serde::Serialize;
 
 use super::report::column_table;

@@ -72,11 +72,11 @@ pub fn granular(args: &GranularArgs) -> anyhow::Result<ExitCode> {
         std::fs::write(path, &script)
             .map_err(|e| anyhow::anyhow!("{}: cannot write: {e}", path.display()))?;
     }
-    let cached = lopin_core::gmsh::is_cached(&spec.name, &script);
+    let cached = lopin_core::mesh::gmsh::is_cached(&spec.name, &script);
     let start = Instant::now();
-    let file = lopin_core::gmsh::mesh_script(&spec.name, &script)?;
+    let file = lopin_core::mesh::gmsh::mesh_script(&spec.name, &script)?;
     let mesh_seconds = start.elapsed().as_secs_f64();
-    let m = lopin_core::msh::read(&file)?;
+    let m = lopin_core::mesh::msh::read(&file)?;
     if let Some(path) = &args.output {
         std::fs::copy(&file, path)
             .map_err(|e| anyhow::anyhow!("{}: cannot write: {e}", path.display()))?;

@@ -4,9 +4,9 @@
 //! and the key–value summary tables (comfy-table) with the energy and contact rows they share.
 
 use comfy_table::{presets, CellAlignment, Table};
-use lopin_core::indicator::StopTest;
 use lopin_core::post::Summary;
 use lopin_core::scene::SceneSpec;
+use lopin_core::stages::indicator::StopTest;
 use lopin_core::window_choice::WindowChoice;
 use lopin_core::{Solution, Solver};
 use serde::Serialize;
@@ -105,9 +105,9 @@ pub struct LatinSettings {
     pub window: Option<usize>,
     #[serde(rename = "macro")]
     pub two_scale: bool,
-    pub directions: lopin_core::search_direction::Directions,
+    pub directions: lopin_core::interfaces::search_direction::Directions,
     /// Which indicator ended the windows.
-    pub stop: lopin_core::indicator::StopTest,
+    pub stop: lopin_core::stages::indicator::StopTest,
     /// Anderson depth (0: plain relaxation).
     pub anderson: usize,
     /// Where cold windows start.

@@ -11,7 +11,7 @@ use lopin_core::counters::Instant;
 use lopin_core::scene::spec::{
     BodySpec, BoundarySpec, ComponentSpec, MaterialSpec, SceneSpec, SolverSpec,
 };
-use lopin_core::time_function::TimeGrid;
+use lopin_core::time::time_function::TimeGrid;
 use lopin_core::{scene, Settings, Solver};
 
 use super::report::markdown_table;

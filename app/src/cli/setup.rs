@@ -5,10 +5,10 @@ use anyhow::Context;
 use clap::Args;
 use lopin_core::counters::Instant;
 use lopin_core::estimate::Estimate;
-use lopin_core::indicator::StopTest;
+use lopin_core::interfaces::search_direction::Directions;
 use lopin_core::scene::admission::{admit, Footprint, SolveShape};
 use lopin_core::scene::settings::WindowStart;
-use lopin_core::search_direction::Directions;
+use lopin_core::stages::indicator::StopTest;
 use lopin_core::window_choice::{choose, Task, WindowChoice, WindowRequest};
 use lopin_core::{scene, LopinError, Parameter, Problem, Settings, Solver};
 
@@ -196,7 +196,7 @@ pub fn admitted(args: &SceneArgs) -> anyhow::Result<Admitted> {
     }
     // into the scene, so that run.json, `lopin export` and a sweep's resume check carry it
     if let Some(r) = args.rho_inf {
-        lopin_core::time_scheme::TimeScheme::new(r)
+        lopin_core::time::time_scheme::TimeScheme::new(r)
             .check()
             .map_err(|reason| anyhow::anyhow!("--rho-inf {r}: {reason}"))?;
         spec.solver.rho_inf = Some(r);

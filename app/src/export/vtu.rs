@@ -6,7 +6,7 @@
 //! at the element centre, 9 components, Pa; METHOD §2 Hex8), `substructure` and `material` ids.
 
 use anyhow::Context;
-use lopin_core::hex8;
+use lopin_core::elements::hex8;
 use lopin_core::mesh::Element;
 use lopin_core::post::{self, SubFields};
 use lopin_core::Solver;

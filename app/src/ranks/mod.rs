@@ -9,7 +9,7 @@ pub mod mpi_world;
 
 use std::sync::{Arc, OnceLock};
 
-use lopin_core::ranks::Ranks;
+use lopin_core::distributed::ranks::Ranks;
 
 static RANKS: OnceLock<Arc<dyn Ranks>> = OnceLock::new();
 

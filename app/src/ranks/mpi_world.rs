@@ -6,7 +6,7 @@
 
 use std::sync::Arc;
 
-use lopin_core::ranks::Ranks;
+use lopin_core::distributed::ranks::Ranks;
 use mpi::collective::SystemOperation;
 use mpi::environment::Universe;
 use mpi::topology::SimpleCommunicator;

@@ -13,15 +13,15 @@
 //!    [`super::linear::LinearStage`] is;
 //! 3. [`SolveRun::indicator`]: η from the unrelaxed linear-stage output and ŝ (METHOD §6), with
 //!    the window normalisation of METHOD §7, and beside it η̄ on step-averaged fields
-//!    ([`crate::indicator`]);
+//!    ([`crate::stages::indicator`]);
 //! 4. [`SolveRun::relaxation`]: s ← μ s_new + (1 − μ) s, μ = 1 at a window's first iteration
-//!    (METHOD §6), or its Anderson-accelerated form ([`crate::acceleration`]);
+//!    (METHOD §6), or its Anderson-accelerated form ([`crate::stages::acceleration`]);
 //! 5. [`SolveRun::end_of_window`]: η < tol (or η̄ < tol, as [`Settings::stop`] says) moves to
 //!    the next window, a cold one starting from a prediction out of the converged steps
 //!    ([`Settings::window_start`], [`crate::scene::settings`]); a non-finite η or the iteration
 //!    limit ends the solve unconverged.
 //!
-//! In a distributed run ([`crate::distribution`]) the same stages run on every rank over what it
+//! In a distributed run ([`crate::distributed::distribution`]) the same stages run on every rank over what it
 //! holds: the local stage on its interfaces, after receiving s of the other ranks' sides and
 //! before sending back their ŝ; the linear stage and the relaxation on its substructures; the
 //! η sums gathered, so that every rank takes the same decisions. [`Solver::finish`] gathers the
@@ -29,16 +29,16 @@
 
 use super::linear::{LinearOutcome, LinearStage, Operators};
 use super::{non_finite, Control, Iterate, Settings, Solution, Solver};
-use crate::acceleration::Anderson;
 use crate::counters::{Instant, IterationRecord};
-use crate::distribution::Distribution;
+use crate::distributed::distribution::Distribution;
 use crate::error::Result;
-use crate::indicator::{smooth_sums, IndicatorSums, StopTest, WindowNorm};
-use crate::interface::Law;
-use crate::linear_stage::{LinearInput, SubState};
-use crate::local_stage::{local_stage, ContactRunning, LocalInput};
+use crate::interfaces::interface::Law;
 use crate::par;
 use crate::problem::Problem;
+use crate::stages::acceleration::Anderson;
+use crate::stages::indicator::{smooth_sums, IndicatorSums, StopTest, WindowNorm};
+use crate::stages::linear_stage::{LinearInput, SubState};
+use crate::stages::local_stage::{local_stage, ContactRunning, LocalInput};
 use crate::state::{InterfaceState, TraceHistory};
 
 /// A solve between two iterations. Made by [`Solver::begin`], advanced by [`Solver::step`],

@@ -8,18 +8,18 @@
 //!
 //! Both hold one [`LinearWork`] per substructure, allocated once with the factorizations, and
 //! return the window's η sums (METHOD §6) with what was skipped and the macro time. In a
-//! distributed run each rank marches only its substructures ([`crate::distribution`]) and the
+//! distributed run each rank marches only its substructures ([`crate::distributed::distribution`]) and the
 //! per-substructure sums are gathered and added in index order, as on one machine.
 
 use super::skip_cache::SkipCache;
 use super::two_scale::TwoScale;
-use crate::distribution::Distribution;
-use crate::factor::CholeskyFactor;
-use crate::indicator::IndicatorSums;
-use crate::linear_stage::{linear_stage, LinearInput, LinearWork, SubState};
-use crate::macro_problem::MacroProblem;
-use crate::operator_classes::Classes;
+use crate::distributed::distribution::Distribution;
+use crate::linalg::factor::CholeskyFactor;
+use crate::macro_scale::macro_problem::MacroProblem;
+use crate::macro_scale::operator_classes::Classes;
 use crate::par;
+use crate::stages::indicator::IndicatorSums;
+use crate::stages::linear_stage::{linear_stage, LinearInput, LinearWork, SubState};
 use crate::state::TraceHistory;
 use crate::substructure::Substructure;
 

@@ -3,7 +3,7 @@
 //! ŝ, METHOD §5, or linear stage s, METHOD §4), the interface or substructure, the step and the
 //! scene inputs behind it, instead of letting NaN reach a plot or a file.
 
-use crate::interface::{DofLaw, Law};
+use crate::interfaces::interface::{DofLaw, Law};
 use crate::problem::Problem;
 use crate::state::{InterfaceState, TraceHistory};
 

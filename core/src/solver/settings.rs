@@ -2,11 +2,11 @@
 //! windows, §9 two-scale switch, §10 defaults), and the checks every setting gets.
 
 use crate::error::{LopinError, Result};
-use crate::indicator::StopTest;
+use crate::interfaces::search_direction::Directions;
 use crate::problem::Problem;
 use crate::scene::settings::WindowStart;
 use crate::scene::spec::SolverSpec;
-use crate::search_direction::Directions;
+use crate::stages::indicator::StopTest;
 
 /// Solver settings (METHOD §10 defaults: k = mean √(ρE), μ = 0.8, tol = 1e-3).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -41,14 +41,14 @@ pub struct Settings {
     #[serde(default, rename = "macro")]
     pub two_scale: bool,
     /// Shape of the search direction: the scalar k, or matched to the P and S waves
-    /// ([`crate::search_direction`]). Changing it refactorizes.
+    /// ([`crate::interfaces::search_direction`]). Changing it refactorizes.
     #[serde(default)]
     pub directions: Directions,
     /// Which indicator the stopping test reads: η, or η̄ on step-averaged fields
-    /// ([`crate::indicator`]).
+    /// ([`crate::stages::indicator`]).
     #[serde(default)]
     pub stop: StopTest,
-    /// Depth of the Anderson acceleration of the relaxation ([`crate::acceleration`]; 0: the
+    /// Depth of the Anderson acceleration of the relaxation ([`crate::stages::acceleration`]; 0: the
     /// plain relaxation of METHOD §6).
     #[serde(default)]
     pub anderson: usize,

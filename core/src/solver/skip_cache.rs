@@ -7,8 +7,8 @@
 //! The check reads ŝ where it lies (the interface sides) and compares it in place with the
 //! stored copy: nothing is gathered or allocated unless the substructure is solved again.
 
-use crate::indicator::IndicatorSums;
-use crate::linear_stage::{LinearWork, SubState};
+use crate::stages::indicator::IndicatorSums;
+use crate::stages::linear_stage::{LinearWork, SubState};
 use crate::state::TraceHistory;
 use crate::substructure::Substructure;
 

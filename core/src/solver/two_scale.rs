@@ -16,13 +16,13 @@
 
 use super::linear::{LinearOutcome, Operators};
 use crate::counters::Instant;
-use crate::factor::SolveScratch;
-use crate::indicator::IndicatorSums;
-use crate::linear_stage::{
+use crate::linalg::factor::SolveScratch;
+use crate::macro_scale::macro_problem::MacroProblem;
+use crate::par;
+use crate::stages::indicator::IndicatorSums;
+use crate::stages::linear_stage::{
     complete, predict, trial_force, Correction, LinearInput, LinearWork, SubState,
 };
-use crate::macro_problem::MacroProblem;
-use crate::par;
 use crate::state::TraceHistory;
 
 /// One substructure's buffers in the two-scale stage.
@@ -124,7 +124,7 @@ impl TwoScale {
             });
             // 2.–3. macro right-hand side and solve
             let t = Instant::now();
-            // −0: b_g = −r_a − r_b exactly, on one rank or summed over two ([`crate::ranks`])
+            // −0: b_g = −r_a − r_b exactly, on one rank or summed over two ([`crate::distributed::ranks`])
             b.iter_mut().for_each(|x| *x = -0.0);
             for (i, (buf, global)) in subs.iter().zip(&mp.global).enumerate() {
                 if dist.holds_sub(i) {

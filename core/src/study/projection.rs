@@ -27,10 +27,10 @@
 //! makes the distance a poor guide (the same grid: 7,146 against 5,643), and on one-step
 //! windows each window already starts from the nearest state's converged step.
 
-use crate::interface::Law;
-use crate::local_stage::{local_stage, ContactRunning, LocalInput};
+use crate::interfaces::interface::Law;
 use crate::par;
 use crate::solver::Solver;
+use crate::stages::local_stage::{local_stage, ContactRunning, LocalInput};
 use crate::state::{InterfaceState, TraceHistory};
 
 /// Stored states a projection combines by default (the nearest included).
@@ -206,7 +206,7 @@ pub fn project(
         for i in 0..n {
             normal[i * n + i] += 1e-10 * largest;
         }
-        let step = crate::dense::solve_spd(normal, rhs);
+        let step = crate::linalg::dense::solve_spd(normal, rhs);
         if !step.iter().all(|x| x.is_finite()) {
             break;
         }

@@ -1,5 +1,5 @@
 //! A study parameter: one interface parameter ([`crate::Parameter`]: f, gap, v0) on every
-//! interface it applies to, or on one zone's ([`crate::zone`]), written `f` or `f@ZONE`.
+//! interface it applies to, or on one zone's ([`crate::interfaces::zone`]), written `f` or `f@ZONE`.
 
 use crate::error::{LopinError, Result};
 use crate::parameter::Parameter;

@@ -600,7 +600,7 @@ fn announced_meshes(spec: &SceneSpec, source: &str) -> Vec<MeshSize> {
             .iter()
             .filter_map(|b| {
                 let path = crate::scene::mesh_bodies::mesh_path(source, &b.mesh);
-                let nodes = crate::msh::announced_nodes(&path)?;
+                let nodes = crate::mesh::msh::announced_nodes(&path)?;
                 Some(MeshSize {
                     nodes: usize::try_from(nodes).unwrap_or(usize::MAX),
                     substructures: b.substructures.unwrap_or(1),

@@ -5,10 +5,12 @@
 
 use std::collections::HashMap;
 
-use crate::detect::{assemble_traces, boundary_interface, detect_interfaces_grouped, PairRule};
+use crate::elements::material::Material;
 use crate::error::{LopinError, Result};
-use crate::interface::Interface;
-use crate::material::Material;
+use crate::interfaces::detect::{
+    assemble_traces, boundary_interface, detect_interfaces_grouped, PairRule,
+};
+use crate::interfaces::interface::Interface;
 use crate::mesh::{Mesh, Vec3};
 use crate::problem::{NamedMaterial, Problem};
 use crate::scene::admission::{self, MeshSize, SolveShape};
@@ -241,7 +243,7 @@ pub fn build(spec: &SceneSpec, source: &str) -> Result<Problem> {
         .filter_map(|it| it.search)
         .fold(0.0f64, f64::max);
     // contacts split by the physical surfaces zones name (each interface's surface kept)
-    let named = crate::zone::surface_names(&spec.zones);
+    let named = crate::interfaces::zone::surface_names(&spec.zones);
     let names: Vec<&str> = named.iter().map(|n| n.0).collect();
     let mesh_subs: Vec<&[usize]> = body_subs[spec.bodies.len()..]
         .iter()
@@ -300,14 +302,15 @@ pub fn build(spec: &SceneSpec, source: &str) -> Result<Problem> {
         }
     }
     assemble_traces(&mut subs, &mut interfaces);
-    let zones = crate::zone::resolve(&spec.zones, &subs, &interfaces, &surface_of, source)?;
+    let zones =
+        crate::interfaces::zone::resolve(&spec.zones, &subs, &interfaces, &surface_of, source)?;
     let mut problem = Problem {
         name: spec.name.clone(),
         materials,
         subs,
         interfaces,
         time: spec.time,
-        scheme: crate::time_scheme::TimeScheme::new(spec.solver.rho_inf.unwrap_or(1.0)),
+        scheme: crate::time::time_scheme::TimeScheme::new(spec.solver.rho_inf.unwrap_or(1.0)),
         velocity_signs: Vec::new(),
         zones,
     };
@@ -322,7 +325,7 @@ fn check_overrides_found(
     spec: &SceneSpec,
     source: &str,
     subs: &[Substructure],
-    interfaces: &[crate::interface::Interface],
+    interfaces: &[crate::interfaces::interface::Interface],
 ) -> Result<()> {
     let joined: std::collections::HashSet<(&str, &str)> = interfaces
         .iter()
@@ -419,7 +422,7 @@ fn cut(mesh: Mesh, n: usize, source: &str, field: &str) -> Result<Vec<(Mesh, Vec
     }
     #[cfg(feature = "partition")]
     {
-        crate::partition::partition(&mesh, n)
+        crate::mesh::partition::partition(&mesh, n)
             .map(|p| p.parts)
             .map_err(|r| LopinError::scene(source, field, r))
     }

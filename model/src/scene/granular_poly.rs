@@ -1,7 +1,7 @@
 //! The seed paper's granular material with polyhedral grains (`[granular_poly]`): N
 //! seeded, non-overlapping random convex polyhedra in a cube of matrix
-//! ([`crate::grain_geometry`]), fragmented and meshed with tetrahedra by gmsh (cached by the
-//! generated script, [`crate::gmsh`]), the matrix cut into substructures by the graph
+//! ([`crate::mesh::grain_geometry`]), fragmented and meshed with tetrahedra by gmsh (cached by the
+//! generated script, [`crate::mesh::gmsh`]), the matrix cut into substructures by the graph
 //! partitioner. The table expands into mesh bodies (`matrix`, `grain1` … `grainN`), a contact
 //! interface with Coulomb friction between every grain and the matrix (zero initial gap: the
 //! fragmented surfaces are conforming), and the loading of SCENES.md `granular`: the top face
@@ -10,7 +10,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::error::{LopinError, Result};
-use crate::grain_geometry::{place_grains, GrainLayout, Polyhedron};
+use crate::mesh::grain_geometry::{place_grains, GrainLayout, Polyhedron};
 use crate::scene::spec::{
     BoundarySpec, ComponentSpec, InterfaceKind, InterfaceSpec, MeshBodySpec, SceneSpec,
 };
@@ -90,7 +90,7 @@ impl GranularPolySpec {
 
     /// The gmsh script of the sample made of `grains` (placed by [`placed_grains`]).
     pub fn script(&self, grains: &[Polyhedron]) -> String {
-        crate::grain_geometry::geo_script(&self.layout(), grains, self.mesh_size)
+        crate::mesh::grain_geometry::geo_script(&self.layout(), grains, self.mesh_size)
     }
 }
 
@@ -322,7 +322,7 @@ pub fn expand(spec: &SceneSpec, source: &str) -> Result<SceneSpec> {
 /// The MSH file of the sample: meshed by gmsh now or taken from the cache.
 #[cfg(feature = "msh")]
 fn mesh_file(script: &str, name: &str) -> std::result::Result<String, String> {
-    crate::gmsh::mesh_script(name, script)
+    crate::mesh::gmsh::mesh_script(name, script)
         .map(|p| p.display().to_string())
         .map_err(|e| e.to_string())
 }

@@ -1,14 +1,14 @@
 //! The bodies of a scene taken from Gmsh files (`[[mesh_body]]`): each is the
 //! physical volume of an MSH 4.1 file (its path relative to the scene file; a `.geo` script is
-//! meshed by gmsh first, [`crate::gmsh`]), one substructure (or the parts the partitioner cuts)
+//! meshed by gmsh first, [`crate::mesh::gmsh`]), one substructure (or the parts the partitioner cuts)
 //! with its own copy of the nodes it shares with other bodies (so interface detection pairs
 //! them on conforming faces, METHOD §1), and its boundary conditions sit on physical surfaces of
 //! the same file. A file read by several bodies is read once. Without the `msh` feature (the web
 //! build) a scene with mesh bodies is an error saying so.
 
-use crate::detect::boundary_interface_on;
 use crate::error::{LopinError, Result};
-use crate::interface::{BoundaryDof, Interface};
+use crate::interfaces::detect::boundary_interface_on;
+use crate::interfaces::interface::{BoundaryDof, Interface};
 use crate::mesh::Mesh;
 use crate::scene::spec::SceneSpec;
 use crate::substructure::Substructure;
@@ -20,7 +20,7 @@ pub struct MeshBodies {
     pub bodies: Vec<(Mesh, Vec<usize>)>,
     /// The files read, and which one each body comes from.
     #[cfg(feature = "msh")]
-    files: Vec<crate::msh::MshMesh>,
+    files: Vec<crate::mesh::msh::MshMesh>,
     #[cfg(feature = "msh")]
     file_of: Vec<usize>,
 }
@@ -71,12 +71,12 @@ fn read_files(spec: &SceneSpec, source: &str) -> Result<MeshBodies> {
                 let field = || format!("mesh_body[{i}].mesh");
                 // a gmsh script is meshed first (cached by its content)
                 let msh = if path.extension().is_some_and(|e| e == "geo") {
-                    crate::gmsh::mesh_geo_file(&path)
+                    crate::mesh::gmsh::mesh_geo_file(&path)
                         .map_err(|e| LopinError::scene(source, field(), e.to_string()))?
                 } else {
                     path.clone()
                 };
-                let m = crate::msh::read(&msh)
+                let m = crate::mesh::msh::read(&msh)
                     .map_err(|e| LopinError::scene(source, field(), e.to_string()))?;
                 paths.push(path);
                 out.files.push(m);
@@ -138,7 +138,7 @@ impl MeshBodies {
     }
 }
 
-/// The face groups of the physical surfaces zones name ([`crate::surface_groups`]): per
+/// The face groups of the physical surfaces zones name ([`crate::interfaces::surface_groups`]): per
 /// substructure of a mesh body, the surfaces its file defines (group g for the g-th name) and
 /// the file node of each of its nodes.
 #[derive(Debug, Default)]
@@ -149,7 +149,7 @@ pub struct SurfaceLookup {
 
 /// The named surfaces of one mesh body's file: (group, facets).
 #[cfg(feature = "msh")]
-type SurfaceSet = Vec<(usize, crate::msh::SurfaceFacets)>;
+type SurfaceSet = Vec<(usize, crate::mesh::msh::SurfaceFacets)>;
 
 impl SurfaceLookup {
     /// The group of a boundary face of substructure `sub` (0: on none of the named surfaces).

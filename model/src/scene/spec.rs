@@ -9,7 +9,7 @@ use crate::error::{LopinError, Result};
 use crate::scene::exact::exactly;
 use crate::scene::granular::GranularSpec;
 use crate::scene::granular_poly::GranularPolySpec;
-use crate::time_function::{Ramp, TimeGrid};
+use crate::time::time_function::{Ramp, TimeGrid};
 
 /// A whole scene.
 #[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
@@ -58,7 +58,7 @@ pub struct SceneSpec {
     pub boundaries: Vec<BoundarySpec>,
     /// Named groups of interfaces whose parameters a study moves apart (`[[zone]]`).
     #[serde(default, rename = "zone", skip_serializing_if = "Vec::is_empty")]
-    pub zones: Vec<crate::zone::ZoneSpec>,
+    pub zones: Vec<crate::interfaces::zone::ZoneSpec>,
 }
 
 fn default_refine_axes() -> String {
@@ -90,15 +90,15 @@ pub struct SolverSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub window: Option<usize>,
     /// Spectral radius at infinite frequency of the time scheme (1: the undamped trapezoidal
-    /// rule; smaller damps the highest frequencies, [`crate::time_scheme`]).
+    /// rule; smaller damps the highest frequencies, [`crate::time::time_scheme`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rho_inf: Option<f64>,
     /// Shape of the search direction, `isotropic` (the scalar k) or `wave` (ρc_p normal, ρc_s
-    /// tangential; [`crate::search_direction`]); absent: isotropic.
+    /// tangential; [`crate::interfaces::search_direction`]); absent: isotropic.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub directions: Option<crate::search_direction::Directions>,
+    pub directions: Option<crate::interfaces::search_direction::Directions>,
     /// Which indicator ends a window: `eta` (METHOD §6) or `smooth` (η̄ on step-averaged
-    /// fields, `lopin_core::indicator`); absent: eta.
+    /// fields, `lopin_core::stages::indicator`); absent: eta.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub stop: Option<crate::scene::settings::StopTest>,
     /// Where a cold time window's iteration starts: `zero`, `hold`, `linear`, `smooth` or
@@ -106,7 +106,7 @@ pub struct SolverSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub window_start: Option<crate::scene::settings::WindowStart>,
     /// Depth of the Anderson acceleration of the relaxation (absent or 0: plain relaxation,
-    /// `lopin_core::acceleration`).
+    /// `lopin_core::stages::acceleration`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub anderson: Option<usize>,
     /// Two-scale linear stage with the macro problem of METHOD §9 (absent: off).
@@ -158,7 +158,7 @@ pub struct BodySpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub elements: Option<ElementKind>,
     /// Substructures cut from the body's mesh by the graph partitioner
-    /// ([`crate::partition`]); instead of `split`.
+    /// ([`crate::mesh::partition`]); instead of `split`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub substructures: Option<usize>,
 }
@@ -173,7 +173,7 @@ pub struct MeshBodySpec {
     pub name: String,
     /// Material name.
     pub material: String,
-    /// The .msh file, or a .geo script that gmsh meshes ([`crate::gmsh`]), relative to the
+    /// The .msh file, or a .geo script that gmsh meshes ([`crate::mesh::gmsh`]), relative to the
     /// scene file (or absolute).
     pub mesh: String,
     /// The physical volume (absent: the body's name).
@@ -183,7 +183,7 @@ pub struct MeshBodySpec {
     #[serde(default, deserialize_with = "exactly")]
     pub velocity: [f64; 3],
     /// Substructures cut from the body's mesh by the graph partitioner
-    /// ([`crate::partition`]); absent: the body is one substructure.
+    /// ([`crate::mesh::partition`]); absent: the body is one substructure.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub substructures: Option<usize>,
 }

@@ -11,16 +11,16 @@
 
 use std::collections::HashMap;
 
-use crate::detect::model_diameter;
+use crate::elements::material::{self, Material};
 use crate::error::{LopinError, Result};
-use crate::interface::{BoundaryDof, DofLaw};
-use crate::material::{self, Material};
+use crate::interfaces::detect::model_diameter;
+use crate::interfaces::interface::{BoundaryDof, DofLaw};
 use crate::scene::admission::{self, SolveShape};
 use crate::scene::build::face_of;
 use crate::scene::granular;
 use crate::scene::granular_poly;
 use crate::scene::spec::{BoundarySpec, ComponentSpec, ElementKind, InterfaceKind, SceneSpec};
-use crate::time_function::TimeFunction;
+use crate::time::time_function::TimeFunction;
 
 /// Checks every field of a scene; `source` names the file or built-in scene in errors. A
 /// granular scene is checked as its `[granular]` table, then as the scene it expands to.
@@ -142,7 +142,7 @@ fn validate_expanded(spec: &SceneSpec, source: &str, generated: Generated) -> Re
         }
     }
     if let Some(r) = s.rho_inf {
-        if let Err(reason) = crate::time_scheme::TimeScheme::new(r).check() {
+        if let Err(reason) = crate::time::time_scheme::TimeScheme::new(r).check() {
             return err("solver.rho_inf".into(), reason);
         }
     }

@@ -4,15 +4,15 @@
 //! their local frames (METHOD §5: normal n outward of side 1, tangent plane).
 
 use faer::sparse::Triplet;
-use lopin_model::time_scheme::StepCoefficients;
+use lopin_model::time::time_scheme::StepCoefficients;
 
 use super::numbering::Numbering;
 use lopin_model::error::{LopinError, Result};
-use lopin_model::interface::{DofLaw, Law};
+use lopin_model::interfaces::interface::{DofLaw, Law};
+use lopin_model::linalg::sparse::SymmetricMatrix;
 use lopin_model::mesh::{cross, dot, norm, Vec3};
 use lopin_model::problem::Problem;
-use lopin_model::sparse::SymmetricMatrix;
-use lopin_model::time_function::TimeFunction;
+use lopin_model::time::time_function::TimeFunction;
 
 /// One copy of a contact pair: the interface node it comes from and its lumped area.
 #[derive(Debug, Clone, PartialEq)]
@@ -177,7 +177,7 @@ impl Assembled {
     }
 
     /// Lower-triangle triplets of S_ff = (c_M M + c_K K) restricted to the free dofs (2/Δt M +
-    /// Δt/2 K for the trapezoidal rule; the coefficients of `lopin_model::time_scheme`).
+    /// Δt/2 K for the trapezoidal rule; the coefficients of `lopin_model::time::time_scheme`).
     pub fn free_operator(&self, time: &StepCoefficients) -> Vec<Triplet<usize, usize, f64>> {
         let mut t: Vec<Triplet<usize, usize, f64>> = self
             .stiffness

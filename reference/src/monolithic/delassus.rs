@@ -5,7 +5,7 @@
 //! the free solution and D to state the contact problem on the pairs.
 
 use super::assembly::Assembled;
-use lopin_model::factor::CholeskyFactor;
+use lopin_model::linalg::factor::CholeskyFactor;
 use lopin_model::mesh::Vec3;
 
 /// Columns per blocked solve.

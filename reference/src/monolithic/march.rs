@@ -1,5 +1,5 @@
 //! The time march of the assembled structure: the scheme of METHOD §2 (the trapezoidal rule, or
-//! its dissipative Bossak–Newmark extension of `lopin_model::time_scheme`, the same discrete
+//! its dissipative Bossak–Newmark extension of `lopin_model::time::time_scheme`, the same discrete
 //! problem LATIN solves) on all dofs at once, prescribed velocities imposed strongly, prescribed
 //! tractions as nodal loads, and at each step the contact problem of the pairs solved on the
 //! Delassus operator (contact_solve.rs).
@@ -14,10 +14,10 @@ use super::contact_solve::{solve_step, ContactControls};
 use super::delassus::{scatter, Delassus};
 use lopin_model::counters::Instant;
 use lopin_model::error::Result;
-use lopin_model::factor::CholeskyFactor;
+use lopin_model::linalg::factor::CholeskyFactor;
 use lopin_model::mesh::{dot, Vec3};
-use lopin_model::time_function::TimeGrid;
-use lopin_model::time_scheme::StepCoefficients;
+use lopin_model::time::time_function::TimeGrid;
+use lopin_model::time::time_scheme::StepCoefficients;
 
 /// The reference solution: global fields at every step m = 0..=N and the contact history of
 /// every pair.

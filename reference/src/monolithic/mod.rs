@@ -24,7 +24,7 @@ pub use numbering::Numbering;
 
 use lopin_model::counters::Instant;
 use lopin_model::error::{LopinError, Result};
-use lopin_model::factor::CholeskyFactor;
+use lopin_model::linalg::factor::CholeskyFactor;
 use lopin_model::parameter::Parameter;
 use lopin_model::problem::Problem;
 

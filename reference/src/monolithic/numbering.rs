@@ -4,7 +4,7 @@
 //! per side; §5 contact acts between them).
 
 use lopin_model::error::{LopinError, Result};
-use lopin_model::interface::Law;
+use lopin_model::interfaces::interface::Law;
 use lopin_model::problem::Problem;
 
 /// Map from (substructure, local node) to the node of the assembled structure.

@@ -9,7 +9,7 @@ use std::borrow::Cow;
 
 use super::{MonoSolution, Monolithic};
 use lopin_model::histories::{ContactHistory, EnergyHistory, Summary};
-use lopin_model::interface::Law;
+use lopin_model::interfaces::interface::Law;
 use lopin_model::mesh::{dot, Vec3};
 
 impl Monolithic {

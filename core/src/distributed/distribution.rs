@@ -1,6 +1,6 @@
 //! Which rank holds which part of a distributed LATIN solve, and the messages of one iteration
 //! (METHOD §11 "Parallelism"). A substructure is held by one rank
-//! ([`crate::rank_assignment`]: METIS on the substructure graph where the `partition` feature is
+//! ([`crate::distributed::rank_assignment`]: METIS on the substructure graph where the `partition` feature is
 //! on, else contiguous runs of equal dofs); an interface by the rank of its first side. A rank
 //! factorizes, marches and relaxes only its substructures (METHOD §4, §6) and runs the local
 //! stage (METHOD §5) only on its interfaces, so per iteration two point-to-point exchanges
@@ -11,7 +11,7 @@
 //! - after it, ŝ of those sides back to the substructure's rank ([`Distribution::send_hats`]).
 //!
 //! Sums (η, η̄, the macro right-hand side of METHOD §9) go through [`Ranks::all_sum`] with one
-//! non-zero contribution per entry and rank ([`crate::ranks`]), so every rank reaches the same
+//! non-zero contribution per entry and rank ([`crate::distributed::ranks`]), so every rank reaches the same
 //! η and the same decisions as the run on one machine, bit for bit.
 //!
 //! A rank stores only the interface fields it works on ([`Distribution::needs_trace`],
@@ -26,10 +26,10 @@ use std::sync::Arc;
 
 use crate::counters::Instant;
 
-use crate::indicator::IndicatorSums;
-use crate::interface::Interface;
+use crate::distributed::ranks::{OneRank, Ranks};
+use crate::interfaces::interface::Interface;
 use crate::problem::Problem;
-use crate::ranks::{OneRank, Ranks};
+use crate::stages::indicator::IndicatorSums;
 use crate::state::{InterfaceState, TraceHistory};
 
 /// One interface side whose substructure and interface lie on different ranks.
@@ -326,7 +326,7 @@ impl Distribution {
     }
 
     /// `values` ← the sum over the ranks (exact where each entry has at most two non-zero
-    /// contributions, [`crate::ranks`]).
+    /// contributions, [`crate::distributed::ranks`]).
     pub fn all_sum(&self, values: &mut [f64]) {
         if !self.is_single() {
             self.timed(|| self.ranks.all_sum(values));
@@ -341,7 +341,7 @@ impl Distribution {
     ) -> IndicatorSums {
         let mut flat: Vec<f64> = items
             .flat_map(|s| {
-                // −0: the neutral element of the sum over the ranks ([`crate::ranks`])
+                // −0: the neutral element of the sum over the ranks ([`crate::distributed::ranks`])
                 s.map_or([-0.0, -0.0], |s| [s.num, s.den])
             })
             .collect();
@@ -434,12 +434,12 @@ impl Distribution {
 }
 
 /// The rank of every substructure of `problem` among `ranks`: METIS on the substructure graph
-/// ([`crate::rank_assignment`]) where the `partition` feature is on, else contiguous runs of
+/// ([`crate::distributed::rank_assignment`]) where the `partition` feature is on, else contiguous runs of
 /// about equal dofs. The reason when it cannot (more ranks than substructures).
 pub fn deal(problem: &Problem, class_of: &[usize], ranks: usize) -> Result<Vec<usize>, String> {
     #[cfg(feature = "partition")]
     {
-        crate::rank_assignment::assign(problem, class_of, ranks).map(|a| a.rank_of)
+        crate::distributed::rank_assignment::assign(problem, class_of, ranks).map(|a| a.rank_of)
     }
     #[cfg(not(feature = "partition"))]
     {

@@ -2,11 +2,11 @@
 //! (vectorized), prescribed velocity/traction (per dof), and unilateral contact with Coulomb
 //! friction (sequential in time, persistent normal law V_lim = min(V*, 0)).
 
-use crate::interface::{Contact, DofLaw, Interface, Law};
+use crate::interfaces::interface::{Contact, DofLaw, Interface, Law};
 use crate::mesh::{dot, Vec3};
 use crate::state::{InterfaceState, TraceHistory};
-use crate::time_function::TimeGrid;
-use crate::time_scheme::StepCoefficients;
+use crate::time::time_function::TimeGrid;
+use crate::time::time_scheme::StepCoefficients;
 
 /// Running contact state carried from step to step: gap ĝ, normal jump [Ŵ_n] and, for a
 /// dissipative scheme, the normal acceleration jump its displacement update needs, per node.
@@ -147,7 +147,7 @@ pub fn local_stage(
 
 /// (k_n, k_t) of a node whose direction is diag(ks) in global axes: n·K n and the mean of the
 /// other two axes (exact when n is a coordinate axis, the only case where ks is not k I:
-/// [`crate::search_direction`]).
+/// [`crate::interfaces::search_direction`]).
 fn normal_tangential(ks: Vec3, n: Vec3) -> (f64, f64) {
     if ks[0] == ks[1] && ks[1] == ks[2] {
         return (ks[0], ks[0]);
@@ -221,7 +221,7 @@ mod tests {
 
     /// V* of the trapezoidal rule with Δt = 1e-3.
     fn v_star(gap: f64, jn: f64) -> f64 {
-        crate::time_scheme::TimeScheme::TRAPEZOIDAL
+        crate::time::time_scheme::TimeScheme::TRAPEZOIDAL
             .coefficients(1e-3)
             .closing_velocity(gap, jn, 0.0)
     }
@@ -230,7 +230,7 @@ mod tests {
     /// g_m = g + d_V [W_n]_{m−1} + d_A [a_n]_{m−1} + c_K V* = 0 to 1e-15.
     #[test]
     fn closing_velocity_closes_the_gap_of_a_dissipative_scheme() {
-        let c = crate::time_scheme::TimeScheme::new(0.5).coefficients(1e-3);
+        let c = crate::time::time_scheme::TimeScheme::new(0.5).coefficients(1e-3);
         let (gap, jn, an) = (1e-3, -0.7, 30.0);
         let v = c.closing_velocity(gap, jn, an);
         let (g, _) = c.advance(gap, jn, an, v);

@@ -1,6 +1,17 @@
 //! Meshes: nodes and elements (trilinear hexahedra, and linear tetrahedra from imported Gmsh
 //! meshes), structured box generation, and the boundary faces (quadrangles, triangles) used to
-//! detect interfaces (METHOD §1: conforming, node-to-node interfaces).
+//! detect interfaces (METHOD §1: conforming, node-to-node interfaces). Beside them: Gmsh MSH 4.1
+//! input ([`msh`]) and the `gmsh` program for `.geo` scripts ([`gmsh`]), automatic
+//! substructuring ([`partition`]) and the polyhedral grains of generated samples
+//! ([`grain_geometry`]).
+
+#[cfg(feature = "msh")]
+pub mod gmsh;
+pub mod grain_geometry;
+#[cfg(feature = "msh")]
+pub mod msh;
+#[cfg(feature = "partition")]
+pub mod partition;
 
 use std::collections::HashMap;
 
@@ -325,7 +336,7 @@ mod tests {
             let Element::Tet4(n) = e else {
                 panic!("{e:?} is not a tetrahedron")
             };
-            let v = crate::tet4::signed_volume(&n.map(|i| m.nodes[i]));
+            let v = crate::elements::tet4::signed_volume(&n.map(|i| m.nodes[i]));
             assert!(v > 0.0, "{n:?}: volume {v}");
             volume += v;
         }

@@ -5,13 +5,13 @@
 //! A zone selects the contact interfaces between the body pairs it lists (`bodies`; none: every
 //! pair) whose centre lies in its box (`min`, `max`; none: anywhere) and that lie on one of the
 //! physical surfaces of Gmsh meshes it names (`surfaces`; none: anywhere; the contacts are
-//! split by surface, [`crate::surface_groups`]), and, for `v0`, the boundary interfaces with a
+//! split by surface, [`crate::interfaces::surface_groups`]), and, for `v0`, the boundary interfaces with a
 //! non-zero prescribed velocity of the bodies it names (none: every body) whose centre lies in
 //! the box and whose surface it names. A zone that selects nothing, names an unknown body or a
 //! surface no mesh file defines, or repeats a name is an error naming the field.
 
 use crate::error::{LopinError, Result};
-use crate::interface::{DofLaw, Interface, Law};
+use crate::interfaces::interface::{DofLaw, Interface, Law};
 use crate::substructure::Substructure;
 
 /// The interfaces of one zone.

@@ -1,7 +1,7 @@
 //! Contact interfaces split by physical surface, for zones that name surfaces of Gmsh meshes
 //! (the interfaces of METHOD §1, whose laws of §5 a zone's parameters set). Faces
 //! are numbered by group (0: on no named surface, g ≥ 1: on the g-th surface the zones name),
-//! and [`crate::detect::detect_interfaces_grouped`] deals each contact node pair to one group
+//! and [`crate::interfaces::detect::detect_interfaces_grouped`] deals each contact node pair to one group
 //! by [`deal`]. A node keeps its whole lumped area (the sum over all its faces), so the split
 //! interfaces hold the unsplit one's node pairs, areas, normals and gaps, and no node pair lies
 //! in two interfaces (a pair in two would split its normal force between two frictions in no

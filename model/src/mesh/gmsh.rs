@@ -1,5 +1,5 @@
 //! Meshing with the `gmsh` program: a `.geo` script meshed in 3-D with linear
-//! tetrahedra into an MSH 4.1 file, which [`crate::msh`] then reads. Meshes are cached by the
+//! tetrahedra into an MSH 4.1 file, which [`crate::mesh::msh`] then reads. Meshes are cached by the
 //! script's content (and the options Lopin passes), so a scene that names a `.geo` file or
 //! generates one (`[granular_poly]`) meshes once per geometry. The cache lies in `LOPIN_CACHE`,
 //! else `XDG_CACHE_HOME/lopin/meshes`, else `HOME/.cache/lopin/meshes`. The program is

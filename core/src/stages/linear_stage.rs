@@ -1,11 +1,11 @@
 //! Linear stage (E−) of one substructure: the march of METHOD §2 (the trapezoidal rule, or its
-//! dissipative Bossak–Newmark extension with the coefficients of [`crate::time_scheme`]) driven by
+//! dissipative Bossak–Newmark extension with the coefficients of [`crate::time::time_scheme`]) driven by
 //! the local-stage fields through the search direction F − F̂ = −k (W − Ŵ) (METHOD §3–§4):
 //!
 //!   S v_m = r_m + Bᵀ A (F̂_m + k Ŵ_m),  r_m = M(c_M v + c_A a) − K(u + d_V v + d_A a),
 //!   W_m = B v_m,  F_m = F̂_m + k (Ŵ_m − W_m),
 //!
-//! with the sums of the error indicator η (METHOD §6, [`crate::indicator`]) accumulated on the way. A step is a
+//! with the sums of the error indicator η (METHOD §6, [`crate::stages::indicator`]) accumulated on the way. A step is a
 //! [`predict`] (the micro solve) and a [`complete`]; between the two the two-scale linear stage
 //! (METHOD §9) solves its macro problem and passes the correction v_m = v¹ + k Z_E α_E.
 //!
@@ -16,12 +16,12 @@
 //! so K(u + d_V v + d_A a) is carried from step to step at O(n) cost (only the triangular solves
 //! remain per step; METHOD §11 cost model).
 
-use crate::factor::{CholeskyFactor, SolveScratch};
-use crate::indicator::IndicatorSums;
-use crate::interface::Interface;
+use crate::interfaces::interface::Interface;
+use crate::linalg::factor::{CholeskyFactor, SolveScratch};
+use crate::stages::indicator::IndicatorSums;
 use crate::state::TraceHistory;
 use crate::substructure::Substructure;
-use crate::time_scheme::StepCoefficients;
+use crate::time::time_scheme::StepCoefficients;
 
 /// Kinematic state (u, v, a) of a substructure at one step (empty for a substructure held by
 /// another rank of a distributed run).
@@ -101,7 +101,7 @@ impl LinearWork {
     }
 
     /// No buffers: a substructure held by another rank of a distributed run
-    /// ([`crate::distribution`]).
+    /// ([`crate::distributed::distribution`]).
     pub fn idle() -> Self {
         Self {
             state: SubState::default(),
@@ -348,11 +348,11 @@ mod tests {
     #[test]
     fn linear_stage_matches_a_dense_solve() {
         for rho in [1.0, 0.7] {
-            dense_check(crate::time_scheme::TimeScheme::new(rho));
+            dense_check(crate::time::time_scheme::TimeScheme::new(rho));
         }
     }
 
-    fn dense_check(scheme: crate::time_scheme::TimeScheme) {
+    fn dense_check(scheme: crate::time::time_scheme::TimeScheme) {
         let spec = scene::load("bar").expect("scene");
         let problem = scene::build::build(&spec, "bar").expect("build");
         let sub = &problem.subs[0];

@@ -1,6 +1,6 @@
 //! Small dense symmetric positive definite solves (Cholesky, row-major): the Anderson mixing's
-//! least-squares normal equations (a few unknowns, `lopin_core::acceleration`) and element-level
-//! checks in tests. Sparse systems go through [`crate::factor`].
+//! least-squares normal equations (a few unknowns, `lopin_core::stages::acceleration`) and element-level
+//! checks in tests. Sparse systems go through [`crate::linalg::factor`].
 
 /// Solves A x = b for a symmetric positive definite A (row-major n×n, n = b.len()).
 pub fn solve_spd(mut a: Vec<f64>, mut b: Vec<f64>) -> Vec<f64> {

@@ -11,7 +11,7 @@
 
 use std::collections::HashMap;
 
-use crate::macro_basis::MacroBasis;
+use crate::macro_scale::macro_basis::MacroBasis;
 use crate::substructure::Substructure;
 
 /// Relative resolution of the comparison.

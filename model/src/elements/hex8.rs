@@ -1,7 +1,7 @@
 //! Trilinear hexahedron: stiffness (2×2×2 Gauss), lumped mass (row sums of the consistent mass,
 //! exact for the Gauss rule used) and stress at the element centre (METHOD §1: lumped `M`, `K`).
 
-use crate::material::Material;
+use crate::elements::material::Material;
 use crate::mesh::Vec3;
 
 /// Natural coordinates of the 8 nodes.

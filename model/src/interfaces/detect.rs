@@ -5,9 +5,9 @@
 
 use std::collections::{BTreeMap, HashMap};
 
-use crate::box_sweep::BoxSweep;
 use crate::error::{LopinError, Result};
-use crate::interface::{BoundaryDof, Contact, Interface, Law, Side};
+use crate::interfaces::box_sweep::BoxSweep;
+use crate::interfaces::interface::{BoundaryDof, Contact, Interface, Law, Side};
 use crate::mesh::{dot, norm, sub, Face, Vec3};
 use crate::substructure::{SideRef, Substructure};
 
@@ -60,9 +60,9 @@ pub fn detect_interfaces(
 
 /// [`detect_interfaces`], with the contact between two substructures split by face groups:
 /// `group(s, face)` is the group of a boundary face of substructure s (0: none; zones by
-/// physical surface, [`crate::zone`]). A matched face pair takes the group of either face
+/// physical surface, [`crate::interfaces::zone`]). A matched face pair takes the group of either face
 /// (the smaller where both have one); each node pair goes to one group
-/// ([`crate::surface_groups::deal`]), so that the contact's node pairs, areas and normals are
+/// ([`crate::interfaces::surface_groups::deal`]), so that the contact's node pairs, areas and normals are
 /// those of the unsplit interface, dealt to one interface per group. Returns each interface
 /// with its group; perfect interfaces are never split. `search_bound` bounds every contact's
 /// search distance (infinite when unknown): substructures farther apart are never compared.
@@ -312,7 +312,7 @@ pub fn assemble_traces(subs: &mut [Substructure], interfaces: &mut [Interface]) 
 }
 
 /// Copies every interface's search direction factors into its sides' slices of the
-/// substructure traces ([`crate::search_direction`]).
+/// substructure traces ([`crate::interfaces::search_direction`]).
 pub fn copy_trace_k(subs: &mut [Substructure], interfaces: &[Interface]) {
     for sub in subs.iter_mut() {
         sub.trace_k = vec![1.0; sub.trace_len()];
@@ -369,7 +369,10 @@ fn build_two_sided(
     let shares: Vec<(f64, &BTreeMap<usize, f64>)> =
         nodes.values().map(|v| (v.area, &v.by_group)).collect();
     let mut dealt: BTreeMap<usize, Vec<(usize, &PairedNode)>> = BTreeMap::new();
-    for ((&n, v), g) in nodes.iter().zip(crate::surface_groups::deal(&shares)) {
+    for ((&n, v), g) in nodes
+        .iter()
+        .zip(crate::interfaces::surface_groups::deal(&shares))
+    {
         dealt.entry(g).or_default().push((n, v));
     }
     dealt
@@ -590,7 +593,7 @@ fn neighbour_offsets() -> impl Iterator<Item = [i64; 3]> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::material::Material;
+    use crate::elements::material::Material;
     use crate::mesh::Mesh;
 
     fn block(body: &str, min: Vec3, max: Vec3, div: [usize; 3]) -> Substructure {

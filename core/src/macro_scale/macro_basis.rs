@@ -5,7 +5,7 @@
 //! traces on a plane, and the orthonormalisation drops the dependent ones by itself (12 on a
 //! non-planar interface, fewer on a line). Macro coordinates of a side field X are Eᵀ A X.
 
-use crate::interface::Interface;
+use crate::interfaces::interface::Interface;
 use crate::mesh::Vec3;
 
 /// Relative norm below which an affine field counts as dependent on the earlier ones.

@@ -2,7 +2,7 @@
 //! process is, an element-wise sum over all ranks, and a point-to-point exchange of trace
 //! fields between neighbouring ranks. [`Ranks`] is the whole contract; [`OneRank`] is the run
 //! on one machine (every operation is the identity), the `lopin` binary's `mpi` feature
-//! implements it on MPI, and [`crate::thread_ranks`] on threads of one process (tests).
+//! implements it on MPI, and [`crate::distributed::thread_ranks`] on threads of one process (tests).
 //!
 //! Exactness: the solver only ever sums vectors in which every entry has at most two
 //! contributions (a per-substructure quantity from the rank that holds the substructure; a

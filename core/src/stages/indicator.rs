@@ -20,8 +20,8 @@
 //! (the step before it is fixed), so a one-step window's η̄ is its η.
 //! [`StopTest`] says which of the two the stopping test reads.
 
-use crate::distribution::Distribution;
-use crate::interface::Interface;
+use crate::distributed::distribution::Distribution;
+use crate::interfaces::interface::Interface;
 pub use crate::scene::settings::StopTest;
 use crate::state::{InterfaceState, TraceHistory};
 
@@ -194,7 +194,7 @@ mod tests {
     fn one_dof(steps: usize) -> (Vec<Interface>, InterfaceState, Vec<Vec<TraceHistory>>) {
         let iface = Interface {
             name: "A:x+".into(),
-            sides: vec![crate::interface::Side {
+            sides: vec![crate::interfaces::interface::Side {
                 sub: 0,
                 offset: 0,
                 nodes: vec![0],
@@ -202,7 +202,7 @@ mod tests {
             len: 1,
             area: vec![2.0],
             k_scale: vec![1.0],
-            law: crate::interface::Law::Perfect,
+            law: crate::interfaces::interface::Law::Perfect,
         };
         let state = InterfaceState {
             steps,

@@ -12,8 +12,8 @@
 //! closed forms of the local stage (perfect, prescribed, contact with k_n and k_t) and the η
 //! norm.
 
-use crate::interface::{Interface, Law};
-use crate::material::Material;
+use crate::elements::material::Material;
+use crate::interfaces::interface::{Interface, Law};
 use crate::problem::Problem;
 
 /// The shape of the search direction.
@@ -113,7 +113,7 @@ pub fn apply(problem: &mut Problem, directions: Directions) {
     for (iface, s) in problem.interfaces.iter_mut().zip(scales) {
         iface.k_scale = s.unwrap_or_else(|| vec![1.0; iface.len]);
     }
-    crate::detect::copy_trace_k(&mut problem.subs, &problem.interfaces);
+    crate::interfaces::detect::copy_trace_k(&mut problem.subs, &problem.interfaces);
 }
 
 /// The wave factors of one interface (ρc_p/k0 on the normal dof, ρc_s/k0 on the others, each the

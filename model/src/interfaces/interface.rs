@@ -3,7 +3,7 @@
 //! substructure's trace vector (node-major, component-minor: METHOD §11 data layout).
 
 use crate::mesh::Vec3;
-use crate::time_function::TimeFunction;
+use crate::time::time_function::TimeFunction;
 
 /// One side of an interface: which substructure, where its dofs sit in that substructure's trace
 /// vector, and which mesh nodes they belong to.
@@ -89,7 +89,7 @@ pub struct Interface {
     /// Lumped area A per trace dof (the same on both sides).
     pub area: Vec<f64>,
     /// Search direction factor per trace dof, the same on both sides: k_j = k · k_scale[j]
-    /// (all 1 for the scalar k of METHOD §3, [`crate::search_direction`]).
+    /// (all 1 for the scalar k of METHOD §3, [`crate::interfaces::search_direction`]).
     pub k_scale: Vec<f64>,
     /// Behaviour.
     pub law: Law,

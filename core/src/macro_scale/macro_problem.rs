@@ -2,25 +2,25 @@
 //! interfaces (perfect and contact), the homogenized operators
 //!
 //!   Z_E = S⁻¹ Bᵀ A s Ê,   L_E = k Êᵀ A s Ê − k² Êᵀ A s B Z_E (s the direction factors of
-//!   [`crate::search_direction`]; s = 1 gives k I − k² Êᵀ A B Z_E),
+//!   [`crate::interfaces::search_direction`]; s = 1 gives k I − k² Êᵀ A B Z_E),
 //!
-//! computed once per class of identical substructures ([`crate::operator_classes`]), and the
+//! computed once per class of identical substructures ([`crate::macro_scale::operator_classes`]), and the
 //! global macro operator L = Σ_E L_E over the macro dofs (9 per planar interface), assembled and
 //! factorized once. Per time step: the macro right-hand side b = −Σ_E Êᵀ A F¹ (step 2), the
 //! solve L α = b (step 3), and per substructure the correction data of step 4.
 //!
-//! In a distributed run ([`crate::distribution`]) a rank homogenizes the classes with a
+//! In a distributed run ([`crate::distributed::distribution`]) a rank homogenizes the classes with a
 //! substructure on it (from the class representative, as on one machine: every rank holds the
 //! whole problem description); the L_E of every class comes from the rank of its
 //! representative by an exact all-sum, and every rank assembles and factorizes the same L (the
 //! macro problem is replicated: it is small, and one solve per step costs less than a
 //! broadcast).
 
-use crate::distribution::Distribution;
+use crate::distributed::distribution::Distribution;
 use crate::error::{LopinError, Result};
-use crate::factor::{CholeskyFactor, SolveScratch};
-use crate::macro_basis::MacroBasis;
-use crate::operator_classes::{homogenized_classes, Classes};
+use crate::linalg::factor::{CholeskyFactor, SolveScratch};
+use crate::macro_scale::macro_basis::MacroBasis;
+use crate::macro_scale::operator_classes::{homogenized_classes, Classes};
 use crate::par;
 use crate::problem::Problem;
 use crate::substructure::SideRef;

@@ -1,7 +1,7 @@
 //! Gmsh MSH 4.1 input, ASCII and binary, through the `mshio` crate for entities,
 //! nodes and elements, and a reader of its own for the `$PhysicalNames` section (which `mshio`
 //! skips). What Lopin keeps: the nodes, the volume cells (linear tetrahedra and hexahedra, in
-//! Gmsh's node order, which is that of [`crate::tet4`] and [`crate::hex8`]), the surface facets
+//! Gmsh's node order, which is that of [`crate::elements::tet4`] and [`crate::elements::hex8`]), the surface facets
 //! (3-node triangles and 4-node quadrangles) and the physical groups each cell and facet belongs
 //! to through its entity. Points and lines are skipped; every other element type is an error
 //! naming it. Every cell is checked (inverted, degenerate: an error naming its id). Errors name
@@ -242,13 +242,13 @@ fn check_hexahedron(x: &[Vec3; 8], id: usize, source: &str) -> Result<()> {
         element: id,
         reason,
     };
-    let v = crate::hex8::volume(x);
+    let v = crate::elements::hex8::volume(x);
     if v.is_nan() || v <= 0.0 {
         return Err(bad_element(format!(
             "inverted or degenerate hexahedron: volume {v:.3e} m³ ({order})"
         )));
     }
-    let corners = crate::hex8::corner_jacobians(x);
+    let corners = crate::elements::hex8::corner_jacobians(x);
     if let Some((corner, det)) = corners
         .iter()
         .copied()
@@ -518,7 +518,7 @@ pub fn parse(bytes: &[u8], source: &str) -> Result<MshMesh> {
             match kind {
                 ElementType::Tet4 => {
                     let n = [idx[0], idx[1], idx[2], idx[3]];
-                    crate::tet4::check(&n.map(|i| nodes[i]), id, source)?;
+                    crate::elements::tet4::check(&n.map(|i| nodes[i]), id, source)?;
                     check_unique(&mut cell_of_nodes, &n, id, source)?;
                     cells.push(Cell {
                         id,
@@ -697,8 +697,8 @@ impl MshMesh {
         cells
             .iter()
             .map(|c| match c.nodes {
-                Element::Tet4(n) => crate::tet4::signed_volume(&n.map(|i| self.nodes[i])),
-                Element::Hex8(n) => crate::hex8::volume(&n.map(|i| self.nodes[i])),
+                Element::Tet4(n) => crate::elements::tet4::signed_volume(&n.map(|i| self.nodes[i])),
+                Element::Hex8(n) => crate::elements::hex8::volume(&n.map(|i| self.nodes[i])),
             })
             .sum()
     }

@@ -29,7 +29,7 @@ pub const MAX_STALLS: usize = 2;
 
 use std::collections::VecDeque;
 
-use crate::dense::solve_spd;
+use crate::linalg::dense::solve_spd;
 
 /// The mixing history of one window.
 #[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]

@@ -1,16 +1,16 @@
 //! Linear (constant-strain) tetrahedron, the element of meshes imported from Gmsh:
 //! stiffness K_e = V Bᵀ D B with the constant strain-displacement matrix B, lumped mass ρV/4 per
 //! node, stress D B u and its von Mises value (METHOD §1: lumped `M`, `K`, the same Voigt order
-//! xx, yy, zz, xy, yz, zx as [`crate::hex8`]). Nodes 1, 2, 3 seen from node 0 turn
+//! xx, yy, zz, xy, yz, zx as [`crate::elements::hex8`]). Nodes 1, 2, 3 seen from node 0 turn
 //! counter-clockwise (Gmsh's order): the signed volume is positive. An inverted element
 //! (negative volume) or a degenerate one (volume below 1e-12 of the cube of its longest edge) is
 //! an error naming the element ([`check`]).
 
+use crate::elements::material::Material;
 use crate::error::{LopinError, Result};
-use crate::material::Material;
 use crate::mesh::{cross, dot, norm, sub, Vec3};
 
-pub use crate::hex8::von_mises;
+pub use crate::elements::hex8::von_mises;
 
 /// The 12×12 element stiffness matrix (dof = 3·local node + component).
 pub type ElementMatrix = [[f64; 12]; 12];
@@ -121,7 +121,7 @@ pub fn stress(x: &[Vec3; 4], mat: &Material, u: &[f64; 12]) -> [f64; 6] {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::material::voigt_strain;
+    use crate::elements::material::voigt_strain;
 
     fn steel() -> Material {
         Material {

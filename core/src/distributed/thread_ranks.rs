@@ -1,11 +1,11 @@
-//! Ranks as threads of one process ([`crate::ranks::Ranks`] over channels and a barrier): the
+//! Ranks as threads of one process ([`crate::distributed::ranks::Ranks`] over channels and a barrier): the
 //! distributed solver runs, tested, without MPI. [`run`] starts P ranks, each calling the same
 //! closure with its own [`ThreadRanks`], and returns their results in rank order.
 
 use std::sync::mpsc::{channel, Receiver, Sender};
 use std::sync::{Arc, Barrier, Mutex};
 
-use crate::ranks::Ranks;
+use crate::distributed::ranks::Ranks;
 
 /// What the ranks of one [`run`] share.
 #[derive(Debug)]

@@ -1,0 +1,7 @@
+//! The elements: the trilinear hexahedron ([`hex8`]) and the linear tetrahedron ([`tet4`]),
+//! with the isotropic elastic material their stiffness and lumped mass are built from
+//! ([`material`]) (METHOD §1).
+
+pub mod hex8;
+pub mod material;
+pub mod tet4;

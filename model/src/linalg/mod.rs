@@ -1,0 +1,7 @@
+//! Linear algebra the model needs: small dense solves ([`dense`]), symmetric sparse matrices
+//! from element triplets ([`sparse`]) and their sparse Cholesky factorization, computed once
+//! ([`factor`], METHOD §4, §11).
+
+pub mod dense;
+pub mod factor;
+pub mod sparse;
