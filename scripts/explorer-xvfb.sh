@@ -95,22 +95,25 @@ for attempt in $(seq 30); do
     kill -0 "$app" 2>/dev/null || { echo "smoke: lopin exited"; cat /tmp/lopin-explorer.log; exit 1; }
     /usr/bin/import -window root "$shot"
     # 3D view: between the 250 px left panel and the 340 px right panel
-    frac="$(/usr/bin/convert "$shot" -crop 500x400+420+220 +repage -depth 8 rgb:- | python3 -c '
+    # the coloured fraction, printed as a percentage; the status says whether it is enough (a
+    # failed capture is retried like a blank one)
+    if frac="$(/usr/bin/convert "$shot" -crop 500x400+420+220 +repage -depth 8 rgb:- | python3 -c '
 import sys
 d = sys.stdin.buffer.read()
 n = len(d) // 3
 coloured = sum(1 for i in range(0, 3 * n, 3) if max(d[i:i+3]) - min(d[i:i+3]) > 40)
-print(f"{coloured / max(n, 1):.3f}")')"
-    if python3 -c "import sys; sys.exit(0 if float(sys.argv[1]) > 0.05 else 1)" "$frac"; then
+f = coloured / max(n, 1)
+print(f"{f:.1%}")
+sys.exit(0 if f > 0.05 else 1)')"; then
         ok=1
         break
     fi
 done
 if [ "$ok" != 1 ]; then
-    echo "smoke: the 3D view stayed blank (a fraction $frac of it coloured after 30 s)"
+    echo "smoke: the 3D view stayed blank (${frac:-none} of it coloured after 30 s)"
     cat /tmp/lopin-explorer.log
     exit 1
 fi
-echo "smoke: $(python3 -c "import sys; print(f'{float(sys.argv[1]):.1%}')" "$frac") of the 3D view is colormap-coloured, after $attempt s"
+echo "smoke: $frac of the 3D view is colormap-coloured, after $attempt s"
 kill -0 "$app" || { echo "smoke: lopin exited"; exit 1; }
 echo "smoke: screenshot in $shot"

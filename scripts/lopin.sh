@@ -11,7 +11,7 @@ marker="$ROOT/target/lopin-tested"
 if [ -f "$marker" ]; then
     exe="$(cat "$marker")"
     if [ -x "$exe" ]; then
-        newer="$(cd "$ROOT" && find Cargo.toml Cargo.lock core reference explorer app assets \
+        newer="$(cd "$ROOT" && find Cargo.toml Cargo.lock model core reference judge explorer app assets \
             -newer "$exe" -type f -print -quit)"
         if [ -z "$newer" ]; then
             exec "$exe" "$@"

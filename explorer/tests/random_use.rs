@@ -23,6 +23,7 @@
 use common::{harness, settle};
 use egui::{Event, Key, Modifiers, PointerButton, Pos2, Rect, Role, Vec2};
 use egui_kittest::kittest::{By, NodeT, Queryable};
+use lopin_core::splitmix::SplitMix64;
 use lopin_explorer::params::Params;
 use lopin_explorer::quantity::Quantity;
 use lopin_explorer::solve_view::SolveStatus;
@@ -161,16 +162,12 @@ fn watch_panics() {
     }));
 }
 
-/// SplitMix64: small, seeded, the same on every platform.
-struct Rng(u64);
+/// The model's SplitMix64: small, seeded, the same on every platform.
+struct Rng(SplitMix64);
 
 impl Rng {
     fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
+        self.0.next_u64()
     }
 
     /// In [0, n).
@@ -326,7 +323,7 @@ impl Run {
     fn new(seed: u64, actions: usize) -> Run {
         let mut run = Run {
             h: harness(SCENES[0]),
-            rng: Rng(seed),
+            rng: Rng(SplitMix64(seed)),
             seed,
             actions,
             log: Vec::new(),
@@ -500,33 +497,30 @@ impl Run {
         e.1 += t.elapsed().as_secs_f64();
     }
 
-    /// Frames for `d` of wall time, the solver working meanwhile.
-    fn wait(&mut self, d: Duration) {
+    /// Frames while `busy` holds and `limit` has not passed, the solver working meanwhile;
+    /// whether `busy` ended.
+    fn frames_while(&mut self, limit: Duration, busy: impl Fn(&ExplorerApp) -> bool) -> bool {
         let t = Instant::now();
-        while t.elapsed() < d {
+        while busy(self.app()) && t.elapsed() < limit {
             self.frame();
             std::thread::sleep(Duration::from_millis(8));
         }
+        !busy(self.app())
+    }
+
+    /// Frames for `d` of wall time.
+    fn wait(&mut self, d: Duration) {
+        self.frames_while(d, |_| true);
     }
 
     /// Frames until the newest request ended (solved, refused) or `limit` passed.
     fn wait_for_solve(&mut self, limit: Duration) -> bool {
-        let t = Instant::now();
-        while self.app().solve.busy() && t.elapsed() < limit {
-            self.frame();
-            std::thread::sleep(Duration::from_millis(8));
-        }
-        !self.app().solve.busy()
+        self.frames_while(limit, |app| app.solve.busy())
     }
 
     /// Frames until the background study solves a value or `limit` passed.
     fn wait_for_study(&mut self, limit: Duration) -> bool {
-        let t = Instant::now();
-        while self.app().study.running().is_none() && t.elapsed() < limit {
-            self.frame();
-            std::thread::sleep(Duration::from_millis(8));
-        }
-        self.app().study.running().is_some()
+        self.frames_while(limit, |app| app.study.running().is_none())
     }
 
     /// A click at `pos`: pointer there, pressed, released, a frame each.

@@ -48,6 +48,11 @@ function fail(msg) {
   throw new Error(msg);
 }
 
+// Fails on any console error, page error or failed request the page reported.
+function failOnErrors(errors) {
+  if (errors.length > 0) fail(`console errors:\n  ${errors.join("\n  ")}`);
+}
+
 async function status(page) {
   return page.evaluate(() => {
     const el = document.getElementById("lopin-status");
@@ -207,7 +212,7 @@ async function launch() {
 // requests and HTTP errors.
 async function openPage(browser, errors) {
   const context = await browser.newContext({
-    viewport: { width: VIEWPORT.width, height: VIEWPORT.height },
+    viewport: VIEWPORT,
     deviceScaleFactor: 1,
   });
   const page = await context.newPage();
@@ -352,7 +357,7 @@ async function main() {
   }
   report.console_errors = errors;
   fs.writeFileSync(path.join(outDir, "web-e2e.json"), JSON.stringify(report, null, 2));
-  if (errors.length > 0) fail(`console errors:\n  ${errors.join("\n  ")}`);
+  failOnErrors(errors);
   return report;
 }
 
@@ -449,7 +454,7 @@ async function randomAction(page, rand, st) {
 
 // The page after an action: it answers, nothing failed.
 function checkRandomState(st, errors) {
-  if (errors.length > 0) fail(`console errors:\n  ${errors.join("\n  ")}`);
+  failOnErrors(errors);
   if (st.state === "failed" && /non-finite value during the solve|^probe:/.test(st.error || "")) {
     fail(`the solve failed: ${st.error}`);
   }
@@ -499,7 +504,8 @@ async function randomMain() {
     delete s.png;
     report.screenshots.push(s);
   } catch (e) {
-    const last = actions.slice(-30).map((a, k) => `  ${actions.length - 30 + k}: ${a}`);
+    const from = Math.max(0, actions.length - 30);
+    const last = actions.slice(from).map((a, k) => `  ${from + k}: ${a}`);
     e.message +=
       `\nLOPIN_UI_SEED=${seed} LOPIN_UI_CLICKS=${clicks} LOPIN_UI_SECONDS=${seconds} ` +
       `(action ${actions.length})\nlast actions:\n${last.join("\n")}`;
@@ -509,7 +515,7 @@ async function randomMain() {
     report.console_errors = errors;
     fs.writeFileSync(path.join(outDir, "web-random.json"), JSON.stringify(report, null, 2));
   }
-  if (errors.length > 0) fail(`console errors:\n  ${errors.join("\n  ")}`);
+  failOnErrors(errors);
   return report;
 }
 

@@ -57,11 +57,7 @@ pub fn cli_markdown() -> String {
          completions SHELL` the completion script.\n",
     );
     let _ = write!(page, "\n```text\n{}\n```\n", cmd.render_usage());
-    for sub in cmd.get_subcommands() {
-        if sub.get_name() != "help" {
-            section(&mut page, sub, "lopin");
-        }
-    }
+    subsections(&mut page, &cmd, "lopin");
     page
 }
 
@@ -127,9 +123,12 @@ fn section(page: &mut String, cmd: &clap::Command, parent: &str) {
             let _ = writeln!(page, "| {name} | {values} | {default} | {help} |");
         }
     }
-    for sub in cmd.get_subcommands() {
-        if sub.get_name() != "help" {
-            section(page, sub, &path);
-        }
+    subsections(page, cmd, &path);
+}
+
+/// A section for each subcommand of `cmd` (clap's own `help` left out).
+fn subsections(page: &mut String, cmd: &clap::Command, path: &str) {
+    for sub in cmd.get_subcommands().filter(|s| s.get_name() != "help") {
+        section(page, sub, path);
     }
 }

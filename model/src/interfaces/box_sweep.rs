@@ -18,7 +18,7 @@ impl BoxSweep {
     /// Indexes `boxes` (lower and upper corners).
     pub fn new(boxes: &[(Vec3, Vec3)]) -> Self {
         let mut sorted: Vec<(f64, usize)> = boxes.iter().map(|b| b.0[0]).zip(0..).collect();
-        sorted.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        sorted.sort_by(|a, b| a.0.total_cmp(&b.0));
         let widest = boxes.iter().map(|b| b.1[0] - b.0[0]).fold(0.0f64, f64::max);
         Self { sorted, widest }
     }

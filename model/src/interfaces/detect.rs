@@ -472,6 +472,7 @@ fn check_conforming(
     max_search: f64,
 ) -> Result<()> {
     for (s, fs) in faces.iter().enumerate() {
+        let mut near_contacts: Option<Vec<(usize, f64)>> = None;
         for (f, face) in fs.iter().enumerate() {
             if matched[s][f] {
                 continue;
@@ -504,20 +505,27 @@ fn check_conforming(
             if max_search <= 0.0 {
                 continue;
             }
-            let (lo, hi) = boxes[s];
-            for t in sweep.meeting(lo[0] - max_search - tol, hi[0] + max_search + tol) {
-                let other_faces = &faces[t];
-                // nearby substructures first (cheap), then their rule
-                if t == s || box_distance(&boxes[s], &boxes[t]) > max_search + tol {
+            // the substructures in contact with s within reach of any of its faces, once per s
+            let near = near_contacts.get_or_insert_with(|| {
+                let widest = fs.iter().map(|f| f.area.sqrt()).fold(0.0, f64::max);
+                let reach = max_search + REL_TOL * widest;
+                let (lo, hi) = boxes[s];
+                sweep
+                    .meeting(lo[0] - reach, hi[0] + reach)
+                    .into_iter()
+                    .filter(|&t| t != s && box_distance(&boxes[s], &boxes[t]) <= reach)
+                    .filter_map(|t| match pair_rule(s, t) {
+                        PairRule::Contact { search, .. } if search > 0.0 => Some((t, search)),
+                        _ => None,
+                    })
+                    .collect()
+            });
+            for &(t, search) in near.iter() {
+                let apart = box_distance(&boxes[s], &boxes[t]);
+                if apart > max_search + tol || apart > search + tol {
                     continue;
                 }
-                let PairRule::Contact { search, .. } = pair_rule(s, t) else {
-                    continue;
-                };
-                if search <= 0.0 || box_distance(&boxes[s], &boxes[t]) > search + tol {
-                    continue;
-                }
-                for other in other_faces {
+                for other in &faces[t] {
                     if dot(face.normal, other.normal) > -FACING {
                         continue;
                     }

@@ -664,7 +664,7 @@ fn body_pieces(spec: &SceneSpec) -> Option<(Vec<PieceGroup>, u128)> {
         let components = if bc.clamped {
             3
         } else {
-            [&bc.x, &bc.y, &bc.z].iter().filter(|c| c.is_some()).count() as u128
+            bc.components().iter().filter(|(_, c)| c.is_some()).count() as u128
         };
         *prescribed
             .entry((bc.body.as_str(), face_key(&bc.face)))

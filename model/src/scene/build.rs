@@ -237,10 +237,13 @@ pub fn build(spec: &SceneSpec, source: &str) -> Result<Problem> {
             .copied()
             .unwrap_or(PairRule::Perfect)
     };
-    let search_bound = spec
-        .interfaces
-        .iter()
-        .filter_map(|it| it.search)
+    // the farthest any rule pairs faces (detection looks no farther)
+    let search_bound = overrides
+        .values()
+        .map(|r| match r {
+            PairRule::Contact { search, .. } => *search,
+            _ => 0.0,
+        })
         .fold(0.0f64, f64::max);
     // contacts split by the physical surfaces zones name (each interface's surface kept)
     let named = crate::interfaces::zone::surface_names(&spec.zones);

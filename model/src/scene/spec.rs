@@ -272,6 +272,13 @@ pub struct BoundarySpec {
     pub z: Option<ComponentSpec>,
 }
 
+impl BoundarySpec {
+    /// The prescriptions of the x, y and z components, with the axis names fields use.
+    pub fn components(&self) -> [(&'static str, &Option<ComponentSpec>); 3] {
+        [("x", &self.x), ("y", &self.y), ("z", &self.z)]
+    }
+}
+
 fn is_false(b: &bool) -> bool {
     !*b
 }

@@ -468,9 +468,8 @@ fn check_physics(spec: &SceneSpec, source: &str) -> Result<()> {
             }
             h_min = h_min.min(h);
         }
-        let h = edges;
-        let aspect =
-            h.iter().fold(0.0f64, |m, &x| m.max(x)) / h.iter().fold(f64::MAX, |m, &x| m.min(x));
+        let aspect = edges.iter().fold(0.0f64, |m, &x| m.max(x))
+            / edges.iter().fold(f64::MAX, |m, &x| m.min(x));
         if aspect > MAX_ASPECT {
             return err(
                 format!("body[{i}].divisions"),
@@ -478,7 +477,7 @@ fn check_physics(spec: &SceneSpec, source: &str) -> Result<()> {
                     "{:?} hexahedra make elements {aspect:.3e} times longer than wide ({:.3e} × \
                      {:.3e} × {:.3e} m); Lopin accepts at most {MAX_ASPECT:e} (a trilinear \
                      element that elongated locks): divide the axes in proportion to the lengths",
-                    b.divisions, h[0], h[1], h[2]
+                    b.divisions, edges[0], edges[1], edges[2]
                 ),
             );
         }
@@ -530,7 +529,7 @@ fn check_physics(spec: &SceneSpec, source: &str) -> Result<()> {
             .find(|b| b.name == bc.body)
             .and_then(|b| material(&b.material))
             .map_or(f64::INFINITY, |m| m.young);
-        for (axis, c) in [("x", &bc.x), ("y", &bc.y), ("z", &bc.z)] {
+        for (axis, c) in bc.components() {
             let Some(c) = c else { continue };
             if let Some(v) = c.velocity {
                 material::check_small_strain_speed(v, slowest).map_err(|r| {
@@ -639,9 +638,9 @@ fn check_overlaps(spec: &SceneSpec, source: &str) -> Result<()> {
 pub(crate) fn boundary_dofs(
     bc: &BoundarySpec,
 ) -> std::result::Result<Vec<BoundaryDof>, (String, String)> {
-    let comps = [&bc.x, &bc.y, &bc.z];
+    let comps = bc.components();
     if bc.clamped {
-        if comps.iter().any(|c| c.is_some()) {
+        if comps.iter().any(|(_, c)| c.is_some()) {
             return Err((
                 "clamped".into(),
                 "clamped = true cannot be combined with x, y or z".into(),
@@ -655,9 +654,8 @@ pub(crate) fn boundary_dofs(
             .collect());
     }
     let mut dofs = Vec::new();
-    for (component, c) in comps.iter().enumerate() {
+    for (component, (axis, c)) in comps.into_iter().enumerate() {
         let Some(c) = c else { continue };
-        let axis = ["x", "y", "z"][component];
         dofs.push(BoundaryDof {
             component,
             law: component_law(c).map_err(|r| (axis.to_string(), r))?,
@@ -720,8 +718,9 @@ pub fn check_mesh_time_step(
 /// fraction of its value, or never starts it (checked after the time step is).
 fn check_ramps(spec: &SceneSpec, source: &str) -> Result<()> {
     let duration = spec.time.steps as f64 * spec.time.dt;
+    let run = short(duration);
     for (i, bc) in spec.boundaries.iter().enumerate() {
-        for (axis, c) in [("x", &bc.x), ("y", &bc.y), ("z", &bc.z)] {
+        for (axis, c) in bc.components() {
             let Some(c) = c else { continue };
             if c.ramp_time > duration * (1.0 + 1e-9) {
                 return Err(LopinError::scene(
@@ -730,9 +729,7 @@ fn check_ramps(spec: &SceneSpec, source: &str) -> Result<()> {
                     format!(
                         "a ramp of {:?} s is longer than the run ({} s = time.steps × \
                          time.dt): the load would never reach its value; at most {} s",
-                        c.ramp_time,
-                        short(duration),
-                        short(duration)
+                        c.ramp_time, run, run
                     ),
                 ));
             }
