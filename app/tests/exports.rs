@@ -16,7 +16,7 @@ use readers::{free_port, lopin, read_rrd, read_vtu, scratch};
 /// two-blocks solved here, as the binary solves it.
 fn reference() -> (Solver, Vec<Vec<post::SubFields>>) {
     let spec = scene::load("two-blocks").expect("scene");
-    let problem = scene::build::build(&spec, "two-blocks").expect("builds");
+    let problem = scene::problem_of(&spec, "two-blocks").expect("builds");
     let mut settings = Settings::for_problem(&problem, &spec.solver);
     // the windows `lopin run` chooses for one cold solve
     let contact = spec.has_contact();

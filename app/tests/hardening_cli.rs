@@ -210,6 +210,66 @@ fn rho_inf_out_of_range() {
     assert_eq!(json["rho_inf"], 0.8);
 }
 
+/// `--set NAME[@ZONE]=VALUE` sets an interface parameter on the built problem through
+/// `Parameter`, as `--f` does: the same solve, iteration for iteration; `run.json` records the
+/// value, not a changed scene; a parameter, zone or value that does not apply is refused naming
+/// it.
+#[test]
+fn set_assigns_interface_parameters() {
+    let solve = |args: &[&str]| {
+        let mut all = vec!["run", "mini-blocks", "--json"];
+        all.extend_from_slice(args);
+        let (out, _) = lopin(&all, &[]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let json: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+        (json["iterations"].clone(), json["eta"].clone())
+    };
+    let by_f = solve(&["--f", "0.45"]);
+    assert_eq!(solve(&["--set", "f=0.45"]), by_f);
+    assert_ne!(solve(&[]), by_f, "f = 0.45 changes the solve");
+    // applied in order, after --f: the last value stands
+    assert_eq!(solve(&["--f", "0.1", "--set", "f=0.45"]), by_f);
+    for (scene, set, says) in [
+        ("mini-blocks", "mu=0.3", "unknown parameter `mu`"),
+        ("mini-blocks", "f@nowhere=0.3", "unknown zone `nowhere`"),
+        ("mini-blocks", "f=abc", "not a number"),
+        ("mini-blocks", "f=20", "[0, 10]"),
+        ("bar", "f=0.3", "applies to nothing"),
+    ] {
+        let all = ["run", scene, "--set", set];
+        let args = &all[2..];
+        let err = refused(&all, &[]);
+        assert!(err.contains(says), "{args:?}: {err}");
+    }
+    let dir = std::env::temp_dir().join(format!("lopin-set-{}", std::process::id()));
+    let out_dir = dir.to_str().expect("utf-8");
+    let (out, _) = lopin(
+        &["run", "mini-blocks", "--set", "gap=1e-6", "--out", out_dir],
+        &[],
+    );
+    assert!(out.status.success());
+    let run: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("run.json")).expect("run.json"))
+            .expect("json");
+    assert_eq!(run["assignments"][0]["target"], "gap");
+    assert_eq!(run["assignments"][0]["value"], 1e-6);
+    let vtu = dir.join("vtu");
+    let (out, _) = lopin(
+        &["export", out_dir, "--vtu", vtu.to_str().expect("utf-8")],
+        &[],
+    );
+    assert!(
+        out.status.success(),
+        "the recorded assignment rebuilds the same problem: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// `--directions` takes `isotropic` or `wave`: another name is refused with both listed; the
 /// report says which direction ran.
 #[test]
@@ -260,7 +320,7 @@ fn windows_are_chosen_for_the_task_and_reported() {
     );
 }
 
-/// `--rho-inf` goes into the run's scene: a run directory of a damped run exports again (the
+/// `--rho-inf` goes into the run's settings: a run directory of a damped run exports again (the
 /// scene rebuilds to the same problem, ρ∞ included).
 #[test]
 fn a_damped_run_exports_again() {

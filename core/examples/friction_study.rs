@@ -8,7 +8,7 @@ use lopin_core::{post, scene, Parameter, Settings, Solver};
 
 fn main() -> lopin_core::Result<()> {
     let spec = scene::load("two-blocks")?;
-    let problem = scene::build::build(&spec, "two-blocks")?;
+    let problem = scene::problem_of(&spec, "two-blocks")?;
     let settings = Settings::for_problem(&problem, &spec.solver);
     let mut solver = Solver::new(problem, settings)?;
     let mut state = solver.solve(None)?.state;

@@ -20,7 +20,7 @@
 //! use lopin_core::{post, scene, Parameter, Settings, Solver};
 //!
 //! let spec = scene::load("two-blocks")?;
-//! let problem = scene::build::build(&spec, "two-blocks")?;
+//! let problem = scene::problem_of(&spec, "two-blocks")?;
 //! let settings = Settings::for_problem(&problem, &spec.solver);
 //! let mut solver = Solver::new(problem, settings)?;
 //! let cold = solver.solve(None)?;
@@ -94,8 +94,8 @@
 //!     ],
 //!     zones: vec![],
 //! };
-//! scene::validate::validate(&spec, "cube")?;
-//! let problem = scene::build::build(&spec, "cube")?;
+//! scene::check(&spec, "cube")?;
+//! let problem = scene::problem_of(&spec, "cube")?;
 //! assert_eq!(problem.subs.len(), 2);
 //! let settings = Settings::for_problem(&problem, &spec.solver);
 //! let mut solver = Solver::new(problem, settings)?;
@@ -121,11 +121,10 @@ pub mod stages;
 pub mod state;
 pub mod study;
 pub mod sweep;
-pub mod window_choice;
 
 pub use lopin_model::{
     counters, elements, error, histories, interfaces, linalg, mesh, parameter, problem, scene,
-    splitmix, substructure, time,
+    settings, splitmix, substructure, target, time, window_choice,
 };
 
 pub use error::{LopinError, Result};

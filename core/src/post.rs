@@ -484,7 +484,7 @@ mod tests {
 
     fn solve(toml: &str, tol: f64, window: Option<usize>) -> (Solver, Solution) {
         let spec = scene::from_toml(toml, "test").expect("scene");
-        let problem = scene::build::build(&spec, "test").expect("build");
+        let problem = scene::problem_of(&spec, "test").expect("build");
         let mut settings = Settings::for_problem(&problem, &spec.solver);
         settings.tol = tol;
         settings.window = window;

@@ -23,13 +23,12 @@
 pub mod iteration;
 mod linear;
 mod non_finite;
-mod settings;
 mod skip_cache;
 mod solution;
 mod two_scale;
 
+pub use crate::settings::Settings;
 pub use iteration::SolveRun;
-pub use settings::Settings;
 pub use solution::{Control, Iterate, Solution};
 
 use std::sync::Arc;
@@ -98,6 +97,8 @@ impl Solver {
     ) -> Result<Self> {
         settings.validate_for(&problem)?;
         let start = Instant::now();
+        // the scheme of the settings: S and the macro problem are built for it
+        problem.scheme = settings.scheme();
         search_direction::apply(&mut problem, settings.directions);
         let classes = factor_classes(&problem.subs);
         let distribution = match ranks {
@@ -143,12 +144,16 @@ impl Solver {
         &self.settings
     }
 
-    /// Changes the settings; refactorizes only if k or the direction shape changed, and switches the linear stage when
+    /// Changes the settings; refactorizes only if k, ρ∞ or the direction shape changed, and
+    /// switches the linear stage when
     /// the two-scale switch changed (building the macro problem if none is held for this k).
     /// On an error the solver keeps its previous settings.
     pub fn set_settings(&mut self, settings: Settings) -> Result<()> {
         settings.validate_for(&self.problem)?;
         check_distributable(&settings, &self.distribution)?;
+        if settings.rho_inf != self.settings.rho_inf {
+            self.set_scheme(settings.scheme())?;
+        }
         let start = Instant::now();
         if settings.directions != self.settings.directions {
             // the classes of identical operators may split or merge with the direction
@@ -180,6 +185,7 @@ impl Solver {
             .check()
             .map_err(|reason| LopinError::setting("rho_inf", reason))?;
         if scheme == self.problem.scheme {
+            self.settings.rho_inf = scheme.rho_inf;
             return Ok(());
         }
         let start = Instant::now();
@@ -193,6 +199,7 @@ impl Solver {
         }
         self.set_scale(two_scale, self.settings.k)?;
         self.settings.two_scale = two_scale;
+        self.settings.rho_inf = scheme.rho_inf;
         self.counters.setup_s += start.elapsed().as_secs_f64();
         Ok(())
     }

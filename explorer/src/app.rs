@@ -22,7 +22,8 @@ use crate::solve_view::SolveView;
 use crate::study_view::{Compare, StudyView};
 use crate::worker::Worker;
 use lopin_core::counters::Instant;
-use lopin_core::{scene, Settings};
+use lopin_core::scene;
+use lopin_core::window_choice::Task;
 use std::sync::Arc;
 
 /// How the explorer starts.
@@ -106,32 +107,40 @@ pub struct ExplorerApp {
     ctx: egui::Context,
 }
 
-/// Loads a scene: spec, problem, settings, geometry.
-pub(crate) fn load(
-    name_or_path: &str,
-) -> lopin_core::Result<(
-    scene::SceneSpec,
-    lopin_core::Problem,
-    Settings,
-    SceneGeometry,
-)> {
-    let spec = scene::load(name_or_path)?;
-    let source = scene::source_label(name_or_path);
-    // the explorer solves the whole interval with the skip cache: admitted before building
-    scene::admission::admit(
-        &spec,
-        &source,
-        scene::admission::SolveShape::of_scene(&spec),
-    )?;
-    let problem = scene::build::build(&spec, &source)?;
-    let settings = Settings::for_problem(&problem, &spec.solver);
-    let geo = SceneGeometry::of(&problem);
-    Ok((spec, problem, settings, geo))
+/// A scene opened for the explorer ([`scene::open`]: the whole interval, re-solved warm after
+/// each change), with the geometry of its view.
+pub(crate) struct Loaded {
+    opened: scene::Opened,
+    geometry: SceneGeometry,
+}
+
+/// Opens a scene with the explorer's options over the scene's `[solver]` table.
+pub(crate) fn load(options: &Options) -> lopin_core::Result<Loaded> {
+    let overrides = scene::Overrides {
+        solver: scene::spec::SolverSpec {
+            two_scale: options.two_scale,
+            ..Default::default()
+        },
+        ..scene::Overrides::for_task(Task::Interactive)
+    };
+    let opened = scene::open(&options.scene, &overrides)?;
+    let geometry = SceneGeometry::of(&opened.problem);
+    Ok(Loaded { opened, geometry })
 }
 
 impl ExplorerApp {
     /// Builds the explorer on a scene; the first (cold) solve starts at once in the background.
     pub fn new(cc: &eframe::CreationContext<'_>, options: Options) -> lopin_core::Result<Self> {
+        let loaded = load(&options)?;
+        Self::opened(cc, options, loaded)
+    }
+
+    /// [`Self::new`] on a scene already opened ([`load`]).
+    pub(crate) fn opened(
+        cc: &eframe::CreationContext<'_>,
+        options: Options,
+        loaded: Loaded,
+    ) -> lopin_core::Result<Self> {
         let gpu = match &cc.wgpu_render_state {
             Some(rs) => {
                 crate::render::install(rs);
@@ -139,14 +148,25 @@ impl ExplorerApp {
             }
             None => false,
         };
-        Self::with_context(cc.egui_ctx.clone(), options, gpu)
+        Self::with_context(cc.egui_ctx.clone(), options, loaded, gpu)
     }
 
-    fn with_context(ctx: egui::Context, options: Options, gpu: bool) -> lopin_core::Result<Self> {
-        let (spec, problem, mut settings, geo) = load(&options.scene)?;
-        if let Some(on) = options.two_scale {
-            settings.two_scale = on;
-        }
+    fn with_context(
+        ctx: egui::Context,
+        options: Options,
+        loaded: Loaded,
+        gpu: bool,
+    ) -> lopin_core::Result<Self> {
+        let Loaded {
+            opened:
+                scene::Opened {
+                    spec,
+                    problem,
+                    settings,
+                    ..
+                },
+            geometry: geo,
+        } = loaded;
         let info = SceneInfo {
             name: spec.name.clone(),
             description: spec.description.clone(),
@@ -214,7 +234,9 @@ impl ExplorerApp {
         };
         // the old scene's recording is complete before the new scene's starts
         self.recording.stop();
-        match Self::with_context(self.ctx.clone(), options, self.gpu) {
+        match load(&options)
+            .and_then(|l| Self::with_context(self.ctx.clone(), options, l, self.gpu))
+        {
             Ok(app) => *self = app,
             Err(e) => {
                 self.solve.set_error(format!("{e}"));

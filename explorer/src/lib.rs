@@ -43,8 +43,8 @@ pub use recorder::{RecordedSolve, RecorderFactory, SolveRecorder};
 /// Opens the explorer in a native window (wgpu renderer) and returns when it is closed.
 #[cfg(not(target_arch = "wasm32"))]
 pub fn run_native(options: Options) -> anyhow::Result<()> {
-    // fail before opening a window if the scene cannot be loaded or built
-    app::load(&options.scene)?;
+    // fail before opening a window if the scene cannot be opened
+    let loaded = app::load(&options)?;
     let native = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default()
             .with_title(format!("Lopin — {}", options.scene))
@@ -56,7 +56,7 @@ pub fn run_native(options: Options) -> anyhow::Result<()> {
         "Lopin",
         native,
         Box::new(move |cc| {
-            let app = ExplorerApp::new(cc, options)?;
+            let app = ExplorerApp::opened(cc, options, loaded)?;
             Ok(Box::new(app))
         }),
     );

@@ -12,6 +12,7 @@ use crate::quantity::Quantity;
 use crate::recording::Recording;
 use crate::solve_view::{SolveStatus, SolveView};
 use egui::{Color32, RichText};
+use lopin_core::interfaces::search_direction::Directions;
 
 /// Top bar: title, scene picker, status. Returns the scene picked, if another one was.
 pub fn top_bar(
@@ -194,37 +195,47 @@ pub fn parameters(
         );
     }
     ui.add(
-        egui::Slider::new(&mut p.k, 1e5..=1e9)
+        egui::Slider::new(&mut p.settings.k, 1e5..=1e9)
             .logarithmic(true)
             .clamping(egui::SliderClamping::Never)
             .text("k (Pa s/m)"),
     );
-    ui.add(egui::Slider::new(&mut p.mu, 0.1..=1.0).text("relaxation μ"));
-    ui.checkbox(&mut p.two_scale, "macro problem (two-scale)")
+    ui.add(egui::Slider::new(&mut p.settings.mu, 0.1..=1.0).text("relaxation μ"));
+    ui.checkbox(&mut p.settings.two_scale, "macro problem (two-scale)")
         .on_hover_text(
             "Two-scale linear stage (METHOD §9): 9 macro unknowns per internal interface, one \
              global macro solve per time step. Same converged solution; fewer iterations when \
              many substructures are crossed.",
         );
-    ui.add(egui::Slider::new(&mut p.rho_inf, 0.0..=1.0).text("ρ∞ damping"))
+    ui.add(egui::Slider::new(&mut p.settings.rho_inf, 0.0..=1.0).text("ρ∞ damping"))
         .on_hover_text(
             "Spectral radius at infinite frequency of the time scheme (Bossak–Newmark): 1 is the \
              undamped trapezoidal rule; smaller damps the highest mesh frequencies, which stall \
              the iteration (0.5: about 7× fewer iterations to η < 1e-6 on two-blocks). Changes \
              the discrete problem slightly (guide: Fewer iterations).",
         );
-    ui.checkbox(&mut p.wave, "wave-matched search direction")
+    let mut wave = p.settings.directions == Directions::Wave;
+    if ui
+        .checkbox(&mut wave, "wave-matched search direction")
         .on_hover_text(
             "Search direction ρc_p along each interface normal and ρc_s across it instead of \
              the scalar k: fewer iterations per step in incremental granular runs, more at \
              η < 1e-3 on two-blocks (guide: Fewer iterations). Same converged solution.",
-        );
-    let mut exponent = p.tol.log10().round() as i32;
+        )
+        .changed()
+    {
+        p.settings.directions = if wave {
+            Directions::Wave
+        } else {
+            Directions::Isotropic
+        };
+    }
+    let mut exponent = p.settings.tol.log10().round() as i32;
     if ui
         .add(egui::Slider::new(&mut exponent, -8..=-1).text("tolerance 10^"))
         .changed()
     {
-        p.tol = 10f64.powi(exponent);
+        p.settings.tol = 10f64.powi(exponent);
     }
 }
 

@@ -7,7 +7,6 @@
 //! again after such a change).
 
 use lopin_core::interfaces::search_direction::Directions;
-use lopin_core::time::time_scheme::TimeScheme;
 use lopin_core::{Parameter, Problem, Settings, Solver};
 use std::sync::Arc;
 
@@ -25,18 +24,9 @@ pub struct Params {
     pub gap: Option<f64>,
     /// Amplitude of the prescribed impact velocity, m/s (None: nothing is prescribed).
     pub velocity: Option<f64>,
-    /// Search direction k, Pa·s/m.
-    pub k: f64,
-    /// Relaxation μ.
-    pub mu: f64,
-    /// Stopping tolerance on η.
-    pub tol: f64,
-    /// Two-scale linear stage with the macro problem (METHOD §9).
-    pub two_scale: bool,
-    /// Spectral radius at infinite frequency of the time scheme (1: the trapezoidal rule).
-    pub rho_inf: f64,
-    /// Wave-matched search direction (ρc_p normal, ρc_s tangential) instead of the scalar k.
-    pub wave: bool,
+    /// The solver settings; the panel moves k, μ, the tolerance, the macro switch, ρ∞ and the
+    /// shape of the search direction.
+    pub settings: Settings,
 }
 
 impl Params {
@@ -48,12 +38,7 @@ impl Params {
             zones: problem.zones.iter().map(|z| z.name.clone()).collect(),
             gap: Parameter::Gap.current(problem),
             velocity: Parameter::VelocityAmplitude.current(problem),
-            k: settings.k,
-            mu: settings.mu,
-            tol: settings.tol,
-            two_scale: settings.two_scale,
-            rho_inf: problem.scheme.rho_inf,
-            wave: settings.directions == Directions::Wave,
+            settings: *settings,
         }
     }
 
@@ -70,18 +55,7 @@ impl Params {
     /// scene's own per-interface values stay until the user moves that control. Validated
     /// there; a new k refactorizes.
     pub fn apply(&self, before: &Params, solver: &mut Solver) -> lopin_core::Result<()> {
-        let mut settings = *solver.settings();
-        settings.k = self.k;
-        settings.mu = self.mu;
-        settings.tol = self.tol;
-        settings.two_scale = self.two_scale;
-        settings.directions = if self.wave {
-            Directions::Wave
-        } else {
-            Directions::Isotropic
-        };
-        solver.set_scheme(TimeScheme::new(self.rho_inf))?;
-        solver.set_settings(settings)?;
+        solver.set_settings(self.settings)?;
         for p in Parameter::ALL {
             if let Some(v) = self.get(p).filter(|&v| Some(v) != before.get(p)) {
                 match p {
@@ -115,29 +89,31 @@ impl Params {
                 }
             }
         }
-        if self.k != before.k {
-            parts.push(format!("k = {:.3e}", self.k));
+        let (s, b) = (&self.settings, &before.settings);
+        if s.k != b.k {
+            parts.push(format!("k = {:.3e}", s.k));
         }
-        if self.mu != before.mu {
-            parts.push(format!("μ = {:.2}", self.mu));
+        if s.mu != b.mu {
+            parts.push(format!("μ = {:.2}", s.mu));
         }
-        if self.two_scale != before.two_scale {
-            parts.push(format!(
-                "macro {}",
-                if self.two_scale { "on" } else { "off" }
-            ));
+        if s.two_scale != b.two_scale {
+            parts.push(format!("macro {}", if s.two_scale { "on" } else { "off" }));
         }
-        if self.rho_inf != before.rho_inf {
-            parts.push(format!("ρ∞ = {:.2}", self.rho_inf));
+        if s.rho_inf != b.rho_inf {
+            parts.push(format!("ρ∞ = {:.2}", s.rho_inf));
         }
-        if self.wave != before.wave {
+        if s.directions != b.directions {
             parts.push(format!(
                 "{} direction",
-                if self.wave { "wave" } else { "scalar" }
+                if s.directions == Directions::Wave {
+                    "wave"
+                } else {
+                    "scalar"
+                }
             ));
         }
-        if self.tol != before.tol {
-            parts.push(format!("tol = {:.0e}", self.tol));
+        if s.tol != b.tol {
+            parts.push(format!("tol = {:.0e}", s.tol));
         }
         parts.join(", ")
     }
@@ -207,12 +183,7 @@ mod tests {
             zones: vec!["upper".to_string(), "lower".to_string()].into(),
             gap: None,
             velocity: None,
-            k: 1.0,
-            mu: 0.8,
-            tol: 1e-3,
-            two_scale: false,
-            rho_inf: 1.0,
-            wave: false,
+            settings: Settings::defaults(1.0),
         };
         let mut t = FrictionTargets {
             values: vec![Some(0.3), Some(0.3), Some(0.3)],

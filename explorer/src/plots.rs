@@ -41,7 +41,7 @@ fn convergence(ui: &mut egui::Ui, solve: &SolveView, height: f32) {
         .filter(|p| p[1] > 0.0 && p[1].is_finite())
         .map(|p| [p[0], p[1].log10()])
         .collect();
-    let tol = solve.params().tol.log10();
+    let tol = solve.params().settings.tol.log10();
     Plot::new("convergence")
         .show_background(false)
         .height(height)

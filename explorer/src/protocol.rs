@@ -152,7 +152,7 @@ pub enum Event {
         histories: Arc<Vec<ContactHistory>>,
     },
     /// A solve ended.
-    Finished(SolveReport),
+    Finished(Box<SolveReport>),
     /// A probe history is ready.
     Probe(Arc<ProbeHistory>),
     /// A converged solve was recorded.

@@ -449,7 +449,7 @@ impl Service {
             generation,
             histories: Arc::new(c),
         });
-        self.send(Event::Finished(report));
+        self.send(Event::Finished(Box::new(report)));
         self.record();
     }
 
@@ -555,7 +555,7 @@ impl Service {
                 });
             }
         }
-        self.send(Event::Finished(report));
+        self.send(Event::Finished(Box::new(report)));
         if converged {
             self.record();
             if let (Some(c), Some(f)) = (self.current.take(), shown) {

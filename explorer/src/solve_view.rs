@@ -250,12 +250,12 @@ impl SolveView {
                         self.last_latency = self.change_time.map(|t| t.elapsed().as_secs_f64());
                     }
                     cache.solve_finished(&mut self.worker);
-                    self.status = SolveStatus::Done(Box::new(report.clone()));
+                    self.status = SolveStatus::Done(report.clone());
                 }
                 if let Some(m) = measure {
                     m.on_finished(&report, self.last_latency);
                 }
-                self.reports.push(report);
+                self.reports.push(*report);
             }
             Event::Probe(p) => cache.receive_probe(p),
             Event::Recorded { target, .. } => recording.recorded(target),

@@ -36,7 +36,7 @@ fn the_friction_slider_launches_a_converged_warm_re_solve() {
     let r = app.solve.reports().last().expect("a report");
     assert!(app.solve.reports().len() > first);
     assert!(
-        r.converged && r.warm && r.eta < app.solve.params().tol,
+        r.converged && r.warm && r.eta < app.solve.params().settings.tol,
         "{r:?}"
     );
     assert_eq!(r.params.friction, Some(moved));
@@ -216,12 +216,15 @@ fn granular_small_exploded_shows_the_grains_and_the_macro_switch_re_solves() {
     let before = h.state().solve.reports().len();
     h.get_by_label("macro problem (two-scale)").click();
     h.step();
-    assert!(h.state().solve.params().two_scale);
+    assert!(h.state().solve.params().settings.two_scale);
     settle(&mut h);
     let app = h.state();
     let r = app.solve.reports().last().expect("a report");
     assert!(app.solve.reports().len() > before);
-    assert!(r.converged && r.warm && r.params.two_scale, "{r:?}");
+    assert!(
+        r.converged && r.warm && r.params.settings.two_scale,
+        "{r:?}"
+    );
     assert!(
         app.solve
             .markers()

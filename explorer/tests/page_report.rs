@@ -17,7 +17,7 @@ fn the_page_report_follows_solves_and_locates_the_friction_slider() {
     assert_eq!(r.generation, 1);
     assert!(!r.warm);
     assert!(r.drawn);
-    let tol = h.state().solve.params().tol;
+    let tol = h.state().solve.params().settings.tol;
     assert!(r.iterations > 1 && r.eta < tol, "{r:?}");
     let f0 = r.friction.expect("two-blocks has contact");
     let latency = r.latency_s.expect("first solve timed");

@@ -4,6 +4,7 @@
 //! thread and the browser's inline mode (a few iterations per poll), which must give the same
 //! iterates bit for bit.
 
+use lopin_core::interfaces::search_direction::Directions;
 use lopin_core::{post, scene, Parameter, Settings, Solver};
 use lopin_explorer::fields::StepFields;
 use lopin_explorer::params::{FrictionTargets, Params};
@@ -14,7 +15,7 @@ use std::time::Duration;
 
 fn two_blocks() -> (lopin_core::Problem, Settings) {
     let spec = scene::registry::builtin("two-blocks").expect("built-in scene");
-    let problem = scene::build::build(&spec, "scene two-blocks").expect("builds");
+    let problem = scene::problem_of(&spec, "scene two-blocks").expect("builds");
     let settings = Settings::for_problem(&problem, &spec.solver);
     (problem, settings)
 }
@@ -23,7 +24,7 @@ fn two_blocks() -> (lopin_core::Problem, Settings) {
 fn finish(worker: &mut Worker, generation: u64, fields: &mut Vec<Arc<StepFields>>) -> SolveReport {
     loop {
         match worker.wait(Duration::from_secs(120)) {
-            Some(Event::Finished(r)) if r.generation == generation => return r,
+            Some(Event::Finished(r)) if r.generation == generation => return *r,
             Some(Event::Fields(f)) if !f.live && f.generation == generation => fields.push(f),
             Some(Event::Error(e)) => panic!("worker error: {e}"),
             Some(_) => {}
@@ -62,7 +63,7 @@ fn slider_change_converges_warm(spawn: Spawn) {
     let (problem, settings) = two_blocks();
     let mut worker = spawn(problem.clone(), settings);
     let mut params = Params::of(&problem, &settings);
-    let tol = params.tol;
+    let tol = params.settings.tol;
     let g0 = worker.solve(params.clone());
     let r0 = finish(&mut worker, g0, &mut Vec::new());
     assert!(r0.converged && !r0.warm, "{r0:?}");
@@ -136,7 +137,7 @@ fn change_during_re_solve_cancels(spawn: Spawn) {
     let (problem, settings) = two_blocks();
     let mut worker = spawn(problem.clone(), settings);
     let mut slow = Params::of(&problem, &settings);
-    slow.tol = 1e-10;
+    slow.settings.tol = 1e-10;
     slow.friction = Some(0.1);
     let g1 = worker.solve(slow.clone());
     // let it run a few iterations
@@ -149,7 +150,7 @@ fn change_during_re_solve_cancels(spawn: Spawn) {
         }
     }
     let mut fast = slow.clone();
-    fast.tol = 1e-3;
+    fast.settings.tol = 1e-3;
     fast.friction = Some(0.2);
     let g2 = worker.solve(fast);
     let r1 = finish(&mut worker, g1, &mut Vec::new());
@@ -212,10 +213,10 @@ fn the_browser_s_inline_worker_gives_the_thread_s_iterates_bit_for_bit() {
 fn the_scheme_and_direction_controls_reach_the_solver() {
     let (problem, mut settings) = two_blocks();
     settings.tol = 1e-4;
-    let mut engine_problem = problem.clone();
-    engine_problem.scheme = lopin_core::time::time_scheme::TimeScheme::new(0.5);
+    let engine_problem = problem.clone();
     let mut engine_settings = settings;
-    engine_settings.directions = lopin_core::interfaces::search_direction::Directions::Wave;
+    engine_settings.rho_inf = 0.5;
+    engine_settings.directions = Directions::Wave;
     let engine = Solver::new(engine_problem, engine_settings)
         .expect("engine")
         .solve(None)
@@ -228,15 +229,18 @@ fn the_scheme_and_direction_controls_reach_the_solver() {
 
     let mut worker = threaded(problem.clone(), settings);
     let mut params = Params::of(&problem, &settings);
-    assert_eq!((params.rho_inf, params.wave), (1.0, false));
-    params.rho_inf = 0.5;
-    params.wave = true;
+    assert_eq!(
+        (params.settings.rho_inf, params.settings.directions),
+        (1.0, Directions::Isotropic)
+    );
+    params.settings.rho_inf = 0.5;
+    params.settings.directions = Directions::Wave;
     let g = worker.solve(params.clone());
     let r = finish(&mut worker, g, &mut Vec::new());
     assert!(r.converged && !r.warm, "{r:?}");
     assert_eq!(r.iterations, engine.iterations);
 
-    params.rho_inf = 1.0;
+    params.settings.rho_inf = 1.0;
     let g = worker.solve(params.clone());
     let r = finish(&mut worker, g, &mut Vec::new());
     assert!(
@@ -283,7 +287,7 @@ fn held_solve_waits(spawn: Spawn) {
     worker.release(g1);
     let r1 = finish(&mut worker, g1, &mut Vec::new());
     assert!(r1.converged && r1.warm && r1.iterations > 0, "{r1:?}");
-    assert!(r0.converged && r1.eta < params.tol, "{r1:?}");
+    assert!(r0.converged && r1.eta < params.settings.tol, "{r1:?}");
 }
 
 /// The friction work of a converged solve, J.
@@ -302,7 +306,7 @@ fn the_friction_slider_pointed_at_a_zone_moves_that_zone_alone() {
         env!("CARGO_MANIFEST_DIR")
     );
     let spec = scene::load(&path).expect("scene");
-    let problem = scene::build::build(&spec, &path).expect("builds");
+    let problem = scene::problem_of(&spec, &path).expect("builds");
     let mut settings = Settings::for_problem(&problem, &spec.solver);
     settings.tol = 1e-5;
     let mut worker = threaded(problem.clone(), settings);
@@ -321,7 +325,7 @@ fn the_friction_slider_pointed_at_a_zone_moves_that_zone_alone() {
     let (mut report, mut stored) = (None, None);
     while report.is_none() || stored.is_none() {
         match worker.wait(Duration::from_secs(120)) {
-            Some(Event::Finished(r)) if r.generation == g1 => report = Some(r),
+            Some(Event::Finished(r)) if r.generation == g1 => report = Some(*r),
             Some(Event::Stored(c)) if !c.background && c.value == 0.1 => stored = Some(c),
             Some(Event::Error(e)) => panic!("worker error: {e}"),
             Some(_) => {}

@@ -22,7 +22,7 @@ use std::time::Duration;
 
 fn two_blocks() -> (lopin_core::Problem, Settings) {
     let spec = scene::registry::builtin("two-blocks").expect("built-in scene");
-    let problem = scene::build::build(&spec, "scene two-blocks").expect("builds");
+    let problem = scene::problem_of(&spec, "scene two-blocks").expect("builds");
     let settings = Settings::for_problem(&problem, &spec.solver);
     (problem, settings)
 }
@@ -71,7 +71,7 @@ fn report(events: &[Event], generation: u64) -> SolveReport {
     events
         .iter()
         .find_map(|e| match e {
-            Event::Finished(r) if r.generation == generation => Some(r.clone()),
+            Event::Finished(r) if r.generation == generation => Some((**r).clone()),
             _ => None,
         })
         .expect("a report")

@@ -10,7 +10,7 @@
 //! use lopin_reference::monolithic::Monolithic;
 //!
 //! let spec = scene::load("two-blocks")?;
-//! let problem = scene::build::build(&spec, "two-blocks")?;
+//! let problem = scene::problem_of(&spec, "two-blocks")?;
 //! let reference = Monolithic::new(problem.clone())?;
 //! let mono = reference.solve()?;
 //! let mut settings = Settings::for_problem(&problem, &spec.solver);

@@ -132,7 +132,7 @@ impl StressCase {
     /// Solves the case and judges it.
     pub fn run(&self) -> Result<StressOutcome> {
         let clock = Instant::now();
-        let problem = scene::build::build(&self.spec, &self.name)?;
+        let problem = scene::problem_of(&self.spec, &self.name)?;
         let mut settings = Settings::for_problem(&problem, &self.spec.solver);
         settings.k *= self.k_factor;
         settings.mu = self.mu;

@@ -8,10 +8,10 @@
 //!
 //! ```
 //! use lopin_model::scene;
-//! let spec = scene::load("two-blocks")?;
-//! let problem = scene::build::build(&spec, "two-blocks")?;
-//! assert_eq!(problem.subs.len(), 2);
-//! assert_eq!(problem.dof_count(), 4356);
+//! let opened = scene::open("two-blocks", &scene::Overrides::default())?;
+//! assert_eq!(opened.problem.subs.len(), 2);
+//! assert_eq!(opened.problem.dof_count(), 4356);
+//! assert_eq!(opened.settings.mu, 0.8);
 //! # Ok::<(), lopin_model::LopinError>(())
 //! ```
 
@@ -25,10 +25,14 @@ pub mod mesh;
 pub mod parameter;
 pub mod problem;
 pub mod scene;
+pub mod settings;
 pub mod splitmix;
 pub mod substructure;
+pub mod target;
 pub mod time;
+pub mod window_choice;
 
 pub use error::{LopinError, Result};
 pub use parameter::Parameter;
 pub use problem::Problem;
+pub use settings::Settings;

@@ -10,7 +10,7 @@
 //! use lopin_model::scene;
 //! use lopin_reference::monolithic::Monolithic;
 //! let spec = scene::load("two-blocks")?;
-//! let problem = scene::build::build(&spec, "two-blocks")?;
+//! let problem = scene::problem_of(&spec, "two-blocks")?;
 //! let reference = Monolithic::new(problem)?;
 //! let mono = reference.solve()?;
 //! assert!(mono.v.iter().flatten().all(|v| v.is_finite()));

@@ -21,7 +21,7 @@ use mono1d::{Chain, Contact};
 
 /// Builds and solves a scene, with `tweak` applied to the default settings.
 pub fn solve(spec: &SceneSpec, tweak: impl FnOnce(&mut Settings)) -> (Solver, Solution) {
-    let problem = scene::build::build(spec, &spec.name).expect("scene builds");
+    let problem = scene::problem_of(spec, &spec.name).expect("scene builds");
     solve_problem(problem, &spec.solver, tweak)
 }
 

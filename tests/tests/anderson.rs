@@ -11,7 +11,7 @@ use lopin_reference::monolithic::Monolithic;
 
 fn solve(anderson: usize) -> (Solver, lopin_core::Solution) {
     let spec = scene::load("two-blocks").expect("scene");
-    let problem = scene::build::build(&spec, &spec.name).expect("scene builds");
+    let problem = scene::problem_of(&spec, &spec.name).expect("scene builds");
     let mut settings = Settings::for_problem(&problem, &spec.solver);
     settings.tol = 1e-6;
     settings.window = Some(1);
@@ -66,7 +66,7 @@ fn anderson_cuts_the_one_step_iterations_and_keeps_the_solution() {
 #[test]
 fn an_absurd_depth_is_refused() {
     let spec = scene::load("two-blocks").expect("scene");
-    let problem = scene::build::build(&spec, &spec.name).expect("scene builds");
+    let problem = scene::problem_of(&spec, &spec.name).expect("scene builds");
     let mut settings = Settings::for_problem(&problem, &spec.solver);
     settings.anderson = 1000;
     let e = Solver::new(problem, settings).expect_err("refused");

@@ -4,6 +4,7 @@
 //! row of its parent that names it (`` `export` `` naming `` `export::vtu` ``), or, for a folder
 //! module, by the rows of its submodules; the web crate's rows name files. The manifests keep the
 //! two wings apart: the model names no Lopin crate, the reference the model and not the solver.
+//! The scene pipeline imports one way and is entered through one door (`scene::open`).
 
 use std::path::{Path, PathBuf};
 
@@ -183,4 +184,160 @@ fn the_reference_depends_on_the_model_and_not_on_the_solver() {
     let core = dependencies("core/Cargo.toml");
     assert!(core.contains(&"lopin-model".to_string()), "{core:?}");
     assert!(!core.contains(&"lopin-reference".to_string()), "{core:?}");
+}
+
+/// The code of a Rust file before its unit tests (`#[cfg(test)]`), comments left out.
+fn code_of(path: &Path) -> String {
+    let text = std::fs::read_to_string(path).expect("source");
+    let code = text.split("#[cfg(test)]").next().unwrap_or(&text);
+    code.lines()
+        .filter(|l| !l.trim_start().starts_with("//"))
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// The scene modules (`model/src/scene/NAME.rs` or `NAME/`) and the other scene modules each
+/// one names outside its tests (`crate::scene::X`, `super::X`, `scene::{X, …}`).
+fn scene_imports() -> Vec<(String, Vec<String>)> {
+    let dir = root().join("model/src/scene");
+    let mut names: Vec<String> = std::fs::read_dir(&dir)
+        .expect("scene")
+        .filter_map(|e| {
+            let path = e.ok()?.path();
+            let stem = path.file_stem()?.to_string_lossy().to_string();
+            (stem != "mod" && (path.is_dir() || path.extension()? == "rs")).then_some(stem)
+        })
+        .collect();
+    names.sort();
+    let mut out = Vec::new();
+    for name in &names {
+        let file = dir.join(format!("{name}.rs"));
+        let code = if file.exists() {
+            code_of(&file)
+        } else {
+            let mut all = String::new();
+            for e in std::fs::read_dir(dir.join(name)).expect("folder") {
+                all += &code_of(&e.expect("entry").path());
+            }
+            all
+        };
+        let named: Vec<String> = names
+            .iter()
+            .filter(|other| *other != name)
+            .filter(|other| {
+                [
+                    format!("crate::scene::{other}"),
+                    format!("super::{other}"),
+                    format!("scene::{{{other}"),
+                    format!(", {other}}}"),
+                    format!(", {other},"),
+                ]
+                .iter()
+                .any(|p| code.contains(p.as_str()))
+            })
+            .cloned()
+            .collect();
+        out.push((name.clone(), named));
+    }
+    out
+}
+
+/// The scene pipeline has no import circle: the schema and the generators' tables below the
+/// checks, the checks below the build, the front door on top.
+#[test]
+fn the_scene_modules_import_one_way() {
+    let graph = scene_imports();
+    let index = |n: &str| graph.iter().position(|(m, _)| m == n).expect("module");
+    // depth-first search for a cycle, reporting its path
+    fn visit(
+        at: usize,
+        graph: &[(String, Vec<String>)],
+        index: &dyn Fn(&str) -> usize,
+        state: &mut [u8],
+        path: &mut Vec<String>,
+    ) -> Option<Vec<String>> {
+        state[at] = 1;
+        path.push(graph[at].0.clone());
+        for next in &graph[at].1 {
+            let j = index(next);
+            if state[j] == 1 {
+                let mut cycle = path.clone();
+                cycle.push(next.clone());
+                return Some(cycle);
+            }
+            if state[j] == 0 {
+                if let Some(c) = visit(j, graph, index, state, path) {
+                    return Some(c);
+                }
+            }
+        }
+        path.pop();
+        state[at] = 2;
+        None
+    }
+    let mut state = vec![0u8; graph.len()];
+    for start in 0..graph.len() {
+        if state[start] == 0 {
+            let cycle = visit(start, &graph, &index, &mut state, &mut Vec::new());
+            assert!(
+                cycle.is_none(),
+                "scene modules import in a circle: {cycle:?}"
+            );
+        }
+    }
+    let open = &graph[index("open")].1;
+    for stage in ["reading", "validate", "admission", "build", "granular"] {
+        assert!(open.contains(&stage.to_string()), "open: {open:?}");
+    }
+}
+
+/// Every file of the workspace's crates (outside `target/`) under `dir`, recursively.
+fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
+    for e in entries.flatten() {
+        let path = e.path();
+        let name = path.file_name().map(|n| n.to_string_lossy().to_string());
+        if path.is_dir() && name.as_deref() != Some("target") {
+            rust_files(&path, out);
+        } else if path.extension().is_some_and(|x| x == "rs") {
+            out.push(path);
+        }
+    }
+}
+
+/// One front door: the build step of the scene pipeline is called from `scene::open` only, in
+/// every crate, test and example.
+#[test]
+fn only_the_front_door_builds_a_scene() {
+    let root = root();
+    let mut files = Vec::new();
+    for dir in [
+        "model",
+        "core",
+        "reference",
+        "judge",
+        "explorer",
+        "app",
+        "web",
+        "tests",
+    ] {
+        rust_files(&root.join(dir), &mut files);
+    }
+    let call = concat!("build_", "expanded(");
+    let callers: Vec<String> = files
+        .iter()
+        .filter(|f| {
+            let text = std::fs::read_to_string(f).expect("source");
+            text.contains(call) && !f.ends_with("scene/build/mod.rs")
+        })
+        .map(|f| {
+            f.strip_prefix(&root)
+                .expect("in root")
+                .display()
+                .to_string()
+        })
+        .collect();
+    assert_eq!(callers, ["model/src/scene/open.rs"], "{callers:?}");
 }

@@ -16,9 +16,9 @@ use lopin_reference::exact::{l2_error, BarExact};
 use lopin_reference::monolithic::Monolithic;
 
 fn solver_for(spec: &SceneSpec, rho_inf: f64, tol: f64) -> Solver {
-    let mut problem = scene::build::build(spec, &spec.name).expect("scene builds");
-    problem.scheme = TimeScheme::new(rho_inf);
+    let problem = scene::problem_of(spec, &spec.name).expect("scene builds");
     let mut settings = Settings::for_problem(&problem, &spec.solver);
+    settings.rho_inf = rho_inf;
     settings.tol = tol;
     settings.max_iter = 20_000;
     Solver::new(problem, settings).expect("setup")
@@ -123,7 +123,7 @@ fn rho_inf_out_of_range_is_a_clear_error() {
     spec.solver.rho_inf = Some(1.5);
     let text = scene::to_toml(&spec);
     let err = scene::from_toml(&text, "damped.toml")
-        .and_then(|s| scene::validate::validate(&s, "damped.toml"))
+        .and_then(|s| scene::check(&s, "damped.toml"))
         .expect_err("refused")
         .to_string();
     assert!(
@@ -153,7 +153,13 @@ fn a_scheme_change_keeps_the_two_scale_stage() {
     built.set_settings(set).expect("two-scale");
     let want = built.solve(None).expect("built with ρ∞ = 0.5");
     let mut switched = solver_for(&spec, 1.0, 1e-4);
-    switched.set_settings(set).expect("two-scale");
+    switched
+        .set_settings(Settings {
+            rho_inf: 1.0,
+            ..set
+        })
+        .expect("two-scale");
+    assert_eq!(switched.problem().scheme, TimeScheme::new(1.0));
     switched.set_scheme(TimeScheme::new(0.5)).expect("scheme");
     assert!(switched.settings().two_scale && switched.macro_problem().is_some());
     let got = switched.solve(None).expect("switched to ρ∞ = 0.5");

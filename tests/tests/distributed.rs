@@ -34,7 +34,7 @@ fn solve_on(
     tweak: &(dyn Fn(&mut Settings) + Sync),
     friction: &[f64],
 ) -> (Vec<Solution>, f64, post::Summary) {
-    let problem = scene::build::build(spec, &spec.name).expect("builds");
+    let problem = scene::problem_of(spec, &spec.name).expect("builds");
     let mut settings = Settings::for_problem(&problem, &spec.solver);
     tweak(&mut settings);
     // what one rank stores of s and ŝ, in doubles, against the whole solution
@@ -220,7 +220,7 @@ fn a_three_value_sweep_is_the_same_on_one_to_four_ranks() {
 #[test]
 fn anderson_and_too_many_ranks_are_refused_on_every_rank() {
     let spec = spec("two-blocks", 1);
-    let problem = scene::build::build(&spec, &spec.name).expect("builds");
+    let problem = scene::problem_of(&spec, &spec.name).expect("builds");
     let mut settings = Settings::for_problem(&problem, &spec.solver);
     // every rank refuses, with the same reason
     let refused = |ranks: usize, settings: Settings, reason: &str| {

@@ -609,7 +609,7 @@ fn run_case(text: &str) -> Report {
             problems: Vec::new(),
         };
     }
-    let problem = match scene::build::build(&spec, SOURCE) {
+    let problem = match scene::problem_of(&spec, SOURCE) {
         Ok(p) => p,
         Err(e) => return refused(Outcome::Unbuilt, &e, Stage::Scene),
     };

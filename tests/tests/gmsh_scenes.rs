@@ -39,7 +39,7 @@ fn gmsh_scene(name: &str) -> (SceneSpec, String) {
 
 fn build(name: &str) -> lopin_core::problem::Problem {
     let (spec, path) = gmsh_scene(name);
-    scene::build::build(&spec, &path).unwrap_or_else(|e| panic!("{e}"))
+    scene::problem_of(&spec, &path).unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// Solves at the default settings changed by `tweak`, and checks it converged.
@@ -92,7 +92,7 @@ fn bar_meshed_by_gmsh_matches_dalembert() {
 fn two_blocks_meshed_by_gmsh_against_the_box_scene() {
     let boxed = scene::registry::builtin("two-blocks").expect("scene");
     let (f_box, slip_box) =
-        contact_quantities(scene::build::build(&boxed, &boxed.name).expect("box scene builds"));
+        contact_quantities(scene::problem_of(&boxed, &boxed.name).expect("box scene builds"));
     let (f_hex, slip_hex) = contact_quantities(build("two-blocks-gmsh-hex"));
     let (f_tet, slip_tet) = contact_quantities(build("two-blocks-gmsh"));
     println!(
@@ -132,9 +132,9 @@ fn latin_on_gmsh_tetrahedra_equals_the_reference() {
 #[test]
 fn zones_on_gmsh_surfaces_split_the_contact_and_the_rim_holds_the_slip() {
     let (mut spec, path) = gmsh_scene("two-blocks-pads-gmsh");
-    let split = scene::build::build(&spec, &path).unwrap_or_else(|e| panic!("{e}"));
+    let split = scene::problem_of(&spec, &path).unwrap_or_else(|e| panic!("{e}"));
     spec.zones.clear();
-    let whole = scene::build::build(&spec, &path).unwrap_or_else(|e| panic!("{e}"));
+    let whole = scene::problem_of(&spec, &path).unwrap_or_else(|e| panic!("{e}"));
     let (ps, pw) = (contact_pairs(&split), contact_pairs(&whole));
     let zone = |name: &str| -> Vec<f64> {
         ps.iter()
@@ -189,7 +189,7 @@ fn zones_on_gmsh_surfaces_split_the_contact_and_the_rim_holds_the_slip() {
 fn a_missing_physical_surface_and_a_broken_script_are_clear_errors() {
     let (mut spec, path) = gmsh_scene("two-blocks-gmsh");
     spec.boundaries[0].surface = Some("lid".into());
-    let e = scene::build::build(&spec, &path)
+    let e = scene::problem_of(&spec, &path)
         .expect_err("unknown surface")
         .to_string();
     assert!(
@@ -249,7 +249,7 @@ fn non_matching_faces_and_an_absurd_time_step_are_clear_errors() {
     std::fs::write(&path, scene::to_toml(&spec)).expect("write scene");
     let path = path.display().to_string();
     let loaded = scene::load(&path).expect("loads");
-    let e = scene::build::build(&loaded, &path)
+    let e = scene::problem_of(&loaded, &path)
         .expect_err("non-matching faces")
         .to_string();
     assert!(
@@ -261,7 +261,7 @@ fn non_matching_faces_and_an_absurd_time_step_are_clear_errors() {
     );
     let (mut spec, path) = gmsh_scene("two-blocks-gmsh");
     spec.time.dt = 1.0;
-    let e = scene::build::build(&spec, &path)
+    let e = scene::problem_of(&spec, &path)
         .expect_err("absurd dt")
         .to_string();
     assert!(e.contains("time.dt") && e.contains("mesh body"), "{e}");

@@ -22,7 +22,7 @@ fn granular_poly() -> SceneSpec {
 #[test]
 fn granular_poly_builds_as_its_table_says_and_solves() {
     let spec = granular_poly();
-    let problem = scene::build::build(&spec, &spec.name).unwrap_or_else(|e| panic!("{e}"));
+    let problem = scene::problem_of(&spec, &spec.name).unwrap_or_else(|e| panic!("{e}"));
     let subs_of = |body: &str| problem.subs.iter().filter(|s| s.body == body).count();
     assert_eq!(subs_of("matrix"), 8);
     for k in 1..=10 {
@@ -76,7 +76,7 @@ fn a_small_polyhedral_sample_equals_the_reference() {
     g.matrix_substructures = 4;
     spec.time.steps = 20;
     spec.solver.rho_inf = Some(0.5);
-    let problem = scene::build::build(&spec, &spec.name).unwrap_or_else(|e| panic!("{e}"));
+    let problem = scene::problem_of(&spec, &spec.name).unwrap_or_else(|e| panic!("{e}"));
     let dofs: usize = problem.subs.iter().map(|s| s.ndof()).sum();
     let (solver, sol) = solve_problem(problem, &spec.solver, |s| {
         s.tol = 1e-9;

@@ -39,7 +39,7 @@ fn estimate_of_a_10_12_element_scene_is_refused_from_the_scene_alone() {
         assert!(msg.contains(part), "no `{part}` in: {msg}");
     }
     // the same through validation (what `lopin estimate FILE` and `lopin run FILE` meet first)
-    let err = scene::build::validate(&spec, "big.toml").expect_err("refused");
+    let err = scene::check(&spec, "big.toml").expect_err("refused");
     assert!(matches!(err, LopinError::TooLarge { .. }), "{err}");
 }
 
@@ -65,7 +65,7 @@ fn refine_that_overflows_is_an_error_not_a_silent_wrap() {
 fn steps_near_2_pow_63_are_refused_before_any_allocation() {
     let mut spec = scene::load("two-blocks").expect("scene");
     spec.time.steps = (1usize << 63) - 1;
-    let msg = scene::build::validate(&spec, "steps.toml")
+    let msg = scene::check(&spec, "steps.toml")
         .expect_err("refused")
         .to_string();
     assert!(msg.contains("steps.toml"), "{msg}");
@@ -119,7 +119,7 @@ fn footprint_counted_from_the_scene_matches_the_built_problem() {
         spec.split(split).expect("split");
         let shape = SolveShape::of_scene(&spec);
         let fp = footprint(&spec, name, shape).expect("counts");
-        let problem = scene::build::build(&spec, name).expect("builds");
+        let problem = scene::problem_of(&spec, name).expect("builds");
         let settings = Settings::for_problem(&problem, &spec.solver);
         let built = Estimate::of(&problem, &settings);
         assert_eq!(fp.dofs, built.dofs, "{name}");
@@ -155,7 +155,7 @@ fn contact_face_made_non_conforming_by_divisions_is_reported_not_dropped() {
     // contact at all and the cube fell through
     let mut spec = scene::load("gap-impact").expect("scene");
     spec.bodies[1].divisions = [4, 4, 5];
-    let err = scene::build::build(&spec, "gap-impact").expect_err("non-conforming");
+    let err = scene::problem_of(&spec, "gap-impact").expect_err("non-conforming");
     assert!(matches!(err, LopinError::NonConforming { .. }), "{err}");
     let msg = err.to_string();
     assert!(
@@ -176,7 +176,7 @@ fn contact_asked_for_between_bodies_that_never_meet_is_an_error() {
     std::fs::write(&path, &lifted).expect("write");
     let path = path.to_str().expect("utf8");
     let spec = scene::load(path).expect("the file itself is valid");
-    let msg = scene::build::build(&spec, path)
+    let msg = scene::problem_of(&spec, path)
         .expect_err("no contact interface")
         .to_string();
     for part in [
@@ -286,7 +286,7 @@ fn absurd_finite_values_are_refused_naming_their_field() {
 #[test]
 fn k_1e300_is_refused_naming_k_and_the_impedance() {
     let spec = scene::load("two-blocks").expect("scene");
-    let problem = scene::build::build(&spec, "two-blocks").expect("builds");
+    let problem = scene::problem_of(&spec, "two-blocks").expect("builds");
     let mut settings = Settings::for_problem(&problem, &spec.solver);
     settings.k = 1e300;
     let msg = Solver::new(problem, settings)
@@ -301,7 +301,7 @@ fn k_1e300_is_refused_naming_k_and_the_impedance() {
 #[test]
 fn sweep_values_that_break_small_strains_are_refused_before_solving() {
     let spec = scene::load("bar").expect("scene");
-    let problem = scene::build::build(&spec, "bar").expect("builds");
+    let problem = scene::problem_of(&spec, "bar").expect("builds");
     let settings = Settings::for_problem(&problem, &spec.solver);
     let mut solver = Solver::new(problem, settings).expect("factorizes");
     let msg = solver
@@ -313,7 +313,7 @@ fn sweep_values_that_break_small_strains_are_refused_before_solving() {
         "{msg}"
     );
     let spec = scene::load("two-blocks").expect("scene");
-    let problem = scene::build::build(&spec, "two-blocks").expect("builds");
+    let problem = scene::problem_of(&spec, "two-blocks").expect("builds");
     let settings = Settings::for_problem(&problem, &spec.solver);
     let mut solver = Solver::new(problem, settings).expect("factorizes");
     let msg = solver
@@ -333,7 +333,7 @@ fn sweep_values_that_break_small_strains_are_refused_before_solving() {
 #[test]
 fn a_non_finite_value_stops_the_solve_naming_where_and_which_input() {
     let spec = scene::load("two-blocks").expect("scene");
-    let mut problem = scene::build::build(&spec, "two-blocks").expect("builds");
+    let mut problem = scene::problem_of(&spec, "two-blocks").expect("builds");
     // a NaN prescribed velocity, set behind validation's back
     let top = problem
         .interfaces

@@ -184,7 +184,7 @@ fn bodies_from_a_gmsh_file_equal_the_built_in_box_on_tetrahedra() {
     top.clamped = false;
     top.z = Some(ComponentSpec::velocity(-1.0, 2e-6));
     spec.boundaries.push(top);
-    let problem = scene::build::build(&spec, "column").expect("builds");
+    let problem = scene::problem_of(&spec, "column").expect("builds");
     let (box_solver, box_sol) = tight(problem);
     let worst = energy_difference((&file_solver, &file_sol), (&box_solver, &box_sol));
     let (vf, vb) = (
@@ -252,7 +252,7 @@ fn a_scene_file_takes_bodies_and_surfaces_from_a_gmsh_file() {
     std::fs::write(&scene_path, COLUMN_SCENE).expect("scene");
     let path = scene_path.display().to_string();
     let spec = scene::load(&path).expect("loads");
-    let problem = scene::build::build(&spec, &path).expect("builds");
+    let problem = scene::problem_of(&spec, &path).expect("builds");
     assert_eq!(problem.subs.len(), 2);
     assert_eq!(
         problem.interfaces.len(),
@@ -270,7 +270,7 @@ fn a_scene_file_takes_bodies_and_surfaces_from_a_gmsh_file() {
     let bad = |text: String| {
         std::fs::write(&scene_path, text).expect("scene");
         let e = scene::load(&path)
-            .and_then(|s| scene::build::build(&s, &path))
+            .and_then(|s| scene::problem_of(&s, &path))
             .expect_err("refused")
             .to_string();
         println!("{e}");

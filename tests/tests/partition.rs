@@ -83,7 +83,7 @@ fn rel_diff(a: &HashMap<[i64; 3], Vec<[f64; 3]>>, b: &HashMap<[i64; 3], Vec<[f64
 fn partitions_hold_every_element_once_and_balance_dofs() {
     for (lower, upper) in [(4, 2), (16, 4)] {
         let spec = impact(lower, upper);
-        let problem = scene::build::build(&spec, &spec.name).expect("builds");
+        let problem = scene::problem_of(&spec, &spec.name).expect("builds");
         for (body, parts, elements) in [("B", lower, 6 * 216), ("A", upper, 6 * 108)] {
             let subs: Vec<_> = problem.subs.iter().filter(|s| s.body == body).collect();
             assert_eq!(subs.len(), parts, "{body}");

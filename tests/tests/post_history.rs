@@ -7,7 +7,7 @@ use lopin_core::{post, scene, Settings, Solver};
 #[test]
 fn history_equals_fields_at_every_checked_step() {
     let spec = scene::load("two-blocks").expect("scene");
-    let problem = scene::build::build(&spec, "two-blocks").expect("builds");
+    let problem = scene::problem_of(&spec, "two-blocks").expect("builds");
     let settings = Settings::for_problem(&problem, &spec.solver);
     let mut solver = Solver::new(problem, settings).expect("factorizes");
     let sol = solver.solve(None).expect("solves");

@@ -18,7 +18,7 @@ fn ranks_get_balanced_work_and_few_cut_interfaces() {
         scene::registry::builtin("granular-small").expect("scene"),
         blocks,
     ] {
-        let problem = scene::build::build(&spec, &spec.name).expect("builds");
+        let problem = scene::problem_of(&spec, &spec.name).expect("builds");
         let classes = factor_classes(&problem.subs);
         let dofs: usize = problem.subs.iter().map(|s| s.ndof()).sum();
         for ranks in [1, 2, 3, 4, 8] {

@@ -11,7 +11,7 @@ const TOL: f64 = 1e-9;
 const BOUND: f64 = 1e-6;
 
 fn latin_vs_reference(spec: &SceneSpec, frictions: &[Option<f64>]) {
-    let problem = scene::build::build(spec, &spec.name).expect("scene builds");
+    let problem = scene::problem_of(spec, &spec.name).expect("scene builds");
     let mut settings = Settings::for_problem(&problem, &spec.solver);
     settings.tol = TOL;
     settings.max_iter = 20_000;
@@ -64,7 +64,7 @@ fn split_two_blocks_agrees() {
 #[test]
 fn a_loose_latin_solve_is_detected() {
     let spec = scene::load("two-blocks").expect("scene");
-    let problem = scene::build::build(&spec, &spec.name).expect("scene builds");
+    let problem = scene::problem_of(&spec, &spec.name).expect("scene builds");
     let mut settings = Settings::for_problem(&problem, &spec.solver);
     settings.tol = 1e-2;
     let reference = Monolithic::new(problem.clone()).expect("reference setup");
@@ -87,7 +87,7 @@ fn reference_reproduces_the_1d_impact() {
     let (bar, chains, contact) = lopin_tests::impact_2a();
     let h = bar.h;
     let one_d = mono1d::march(&chains, h, 152, None, Some(contact));
-    let problem = scene::build::build(&bar.spec(), "impact").expect("scene builds");
+    let problem = scene::problem_of(&bar.spec(), "impact").expect("scene builds");
     let reference = Monolithic::new(problem).expect("reference");
     let sol = reference.solve().expect("solve");
     let e = reference.energy(&sol);
@@ -111,7 +111,7 @@ fn reference_reproduces_the_1d_impact() {
 fn reference_reproduces_the_bar_plateau() {
     let mut spec = scene::load("bar").expect("scene");
     spec.refine(4).expect("refine");
-    let problem = scene::build::build(&spec, "bar").expect("scene builds");
+    let problem = scene::problem_of(&spec, "bar").expect("scene builds");
     let reference = Monolithic::new(problem).expect("reference");
     let sol = reference.solve().expect("solve");
     let p = reference.problem();

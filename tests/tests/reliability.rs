@@ -330,7 +330,7 @@ fn divisions_100000_1_1_is_refused_as_too_elongated() {
 fn a_failed_factorization_names_the_body_node_and_elements() {
     use lopin_core::{Settings, Solver};
     let spec = scene::load("two-blocks").expect("scene");
-    let mut problem = scene::build::build(&spec, "two-blocks").expect("builds");
+    let mut problem = scene::problem_of(&spec, "two-blocks").expect("builds");
     let body = problem.subs[0].body.clone();
     let x = problem.subs[0].mesh.nodes[17];
     // a negative lumped mass on node 17, y: S is no longer positive definite there
@@ -364,7 +364,7 @@ fn mesh_body_scenes_are_counted_by_admission_not_as_zero_bytes() {
     std::fs::write(&path, &scene_text).expect("scene");
     let source = path.display().to_string();
     let spec = scene::load(&source).expect("loads");
-    let problem = scene::build::build(&spec, &source).expect("builds");
+    let problem = scene::problem_of(&spec, &source).expect("builds");
     let shape = SolveShape::smallest();
     // before the files are read: each body counted with every node its file announces
     let announced = footprint(&spec, &source, shape).expect("counts");

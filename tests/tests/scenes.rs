@@ -89,7 +89,7 @@ fn malformed_scene_files_get_clear_errors() {
 fn nonconforming_meshes_are_rejected() {
     let mut spec = scene::registry::builtin("two-blocks").expect("registry");
     spec.bodies[0].divisions = [8, 8, 5];
-    let err = scene::build::build(&spec, "test").expect_err("nonconforming");
+    let err = scene::problem_of(&spec, "test").expect_err("nonconforming");
     assert!(matches!(err, LopinError::NonConforming { .. }), "{err}");
     assert!(err.to_string().contains("do not match"));
 }
@@ -267,7 +267,7 @@ fn time_windows_converge_to_the_same_solution() {
 #[test]
 fn warm_start_reuses_the_previous_solution() {
     let spec = scene::registry::builtin("two-blocks").expect("registry");
-    let problem = scene::build::build(&spec, "two-blocks").expect("builds");
+    let problem = scene::problem_of(&spec, "two-blocks").expect("builds");
     let mut settings = Settings::for_problem(&problem, &spec.solver);
     settings.tol = 1e-6;
     let mut solver = Solver::new(problem, settings).expect("factorizes");
@@ -292,7 +292,7 @@ fn warm_start_reuses_the_previous_solution() {
 #[test]
 fn an_observer_can_cancel_a_solve() {
     let spec = scene::registry::builtin("two-blocks").expect("registry");
-    let problem = scene::build::build(&spec, "two-blocks").expect("builds");
+    let problem = scene::problem_of(&spec, "two-blocks").expect("builds");
     let settings = Settings::for_problem(&problem, &spec.solver);
     let mut solver = Solver::new(problem, settings).expect("factorizes");
     let sol = solver
@@ -315,7 +315,7 @@ fn an_observer_can_cancel_a_solve() {
 #[test]
 fn momentum_change_equals_boundary_impulse() {
     let spec = scene::registry::builtin("two-blocks").expect("registry");
-    let problem = scene::build::build(&spec, "two-blocks").expect("builds");
+    let problem = scene::problem_of(&spec, "two-blocks").expect("builds");
     let mut settings = Settings::for_problem(&problem, &spec.solver);
     settings.tol = 1e-9;
     let mut solver = Solver::new(problem, settings).expect("factorizes");
@@ -390,7 +390,7 @@ fn cell_faces(l: &Layout) -> (usize, usize, usize) {
 fn granular_small_has_the_layout_interfaces_and_boundaries_of_scenes_md() {
     let spec = scene::registry::builtin("granular-small").expect("registry");
     let layout = granular_layout(&spec);
-    let p: Problem = scene::build::build(&spec, "granular-small").expect("builds");
+    let p: Problem = scene::problem_of(&spec, "granular-small").expect("builds");
     assert_eq!(p.subs.len(), 64);
     assert_eq!(p.dof_count(), 12_288);
     assert_eq!((4 * 4 * 4) * (3 + 1) * (3 + 1) * (3 + 1) * 3, 12_288);
@@ -569,7 +569,7 @@ fn malformed_granular_files_get_clear_errors() {
     // `--split` has no meaning for a granular scene: the build says so
     let mut spec = scene::registry::builtin("granular-small").expect("registry");
     spec.split(2).expect("split");
-    let msg = scene::build::build(&spec, "scene granular-small")
+    let msg = scene::problem_of(&spec, "scene granular-small")
         .expect_err("split")
         .to_string();
     assert!(
@@ -584,7 +584,7 @@ fn malformed_granular_files_get_clear_errors() {
 fn granular_small_converges_at_default_settings() {
     let spec = scene::registry::builtin("granular-small").expect("registry");
     let clock = Instant::now();
-    let problem = scene::build::build(&spec, "granular-small").expect("builds");
+    let problem = scene::problem_of(&spec, "granular-small").expect("builds");
     let build_s = clock.elapsed().as_secs_f64();
     let settings = Settings::for_problem(&problem, &spec.solver);
     let mut solver = Solver::new(problem, settings).expect("factorizes");
@@ -619,7 +619,7 @@ fn granular_small_converges_at_default_settings() {
 fn granular_paper_builds_with_shared_operators() {
     let spec = scene::registry::builtin("granular-paper").expect("registry");
     let clock = Instant::now();
-    let p = scene::build::build(&spec, "granular-paper").expect("builds");
+    let p = scene::problem_of(&spec, "granular-paper").expect("builds");
     let s = clock.elapsed().as_secs_f64();
     let contact = p.contact_count();
     let boundary = p.interfaces.iter().filter(|i| i.is_boundary()).count();

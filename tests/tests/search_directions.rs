@@ -13,7 +13,7 @@ use lopin_judge::compare::compare;
 use lopin_reference::monolithic::Monolithic;
 
 fn solver_for(spec: &SceneSpec, directions: Directions, two_scale: bool, tol: f64) -> Solver {
-    let problem = scene::build::build(spec, &spec.name).expect("scene builds");
+    let problem = scene::problem_of(spec, &spec.name).expect("scene builds");
     let mut settings = Settings::for_problem(&problem, &spec.solver);
     settings.tol = tol;
     settings.max_iter = 20_000;

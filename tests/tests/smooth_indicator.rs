@@ -16,7 +16,7 @@ use lopin_reference::monolithic::Monolithic;
 
 fn solver(stop: StopTest, tol: f64) -> Solver {
     let spec = scene::load("two-blocks-ramp").expect("scene");
-    let problem = scene::build::build(&spec, &spec.name).expect("scene builds");
+    let problem = scene::problem_of(&spec, &spec.name).expect("scene builds");
     let mut settings = Settings::for_problem(&problem, &spec.solver);
     settings.tol = tol;
     settings.window = None;
@@ -98,7 +98,7 @@ fn on_time_windows_the_smooth_stop_converges_and_is_eta_on_one_step_windows() {
     // to 5e-6 of it)
     let on = |window: usize, stop: StopTest| {
         let spec = scene::load("two-blocks").expect("scene");
-        let problem = scene::build::build(&spec, &spec.name).expect("scene builds");
+        let problem = scene::problem_of(&spec, &spec.name).expect("scene builds");
         let mut settings = Settings::for_problem(&problem, &spec.solver);
         settings.window = Some(window);
         settings.max_iter = 200;

@@ -11,7 +11,6 @@ use std::sync::Mutex;
 use lopin_core::scene;
 use lopin_core::study::runner::{self, Outcome, Predictor, RunOptions};
 use lopin_core::study::{projection, Chains, Design, Path, Sampling, Spread, Target};
-use lopin_core::time::time_scheme::TimeScheme;
 use lopin_core::{Settings, Solver};
 
 fn run(chains: usize, cold: bool) -> Vec<Outcome> {
@@ -38,9 +37,9 @@ fn run_windows(
     window: Option<usize>,
 ) -> Vec<Outcome> {
     let spec = scene::load("two-blocks").expect("scene");
-    let mut problem = scene::build::build(&spec, "two-blocks").expect("builds");
-    problem.scheme = TimeScheme::new(0.5);
+    let problem = scene::problem_of(&spec, "two-blocks").expect("builds");
     let mut settings = Settings::for_problem(&problem, &spec.solver);
+    settings.rho_inf = 0.5;
     settings.tol = 1e-4;
     settings.window = window;
     let design = Design::grid(vec![
@@ -94,9 +93,9 @@ fn solve_design(
 /// around a design point.
 fn run_sampled(samples: usize, cold: bool, predictor: Predictor) -> Vec<Outcome> {
     let spec = scene::load("two-blocks").expect("scene");
-    let mut problem = scene::build::build(&spec, "two-blocks").expect("builds");
-    problem.scheme = TimeScheme::new(0.5);
+    let problem = scene::problem_of(&spec, "two-blocks").expect("builds");
     let mut settings = Settings::for_problem(&problem, &spec.solver);
+    settings.rho_inf = 0.5;
     settings.window = None;
     let design = Design::sample(
         vec![
@@ -304,9 +303,9 @@ fn where_the_response_is_linear_in_the_gap_the_projection_finds_the_midpoint() {
     // response is linear in the gap between them (no contact status changes), so the best
     // admissible combination is their midpoint, α = 1/2, and it is nearly exact
     let spec = scene::load("two-blocks").expect("scene");
-    let mut problem = scene::build::build(&spec, "two-blocks").expect("builds");
-    problem.scheme = TimeScheme::new(0.5);
+    let problem = scene::problem_of(&spec, "two-blocks").expect("builds");
     let mut settings = Settings::for_problem(&problem, &spec.solver);
+    settings.rho_inf = 0.5;
     settings.window = None;
     settings.tol = 1e-8;
     let mut solver = Solver::new(problem, settings).expect("solver");

@@ -10,7 +10,7 @@ use lopin_tests::{rel_diff, velocity_history};
 
 fn warm_vs_cold(tol: f64) -> Vec<(f64, usize, usize, f64)> {
     let spec = scene::registry::builtin("two-blocks").expect("registry");
-    let problem = scene::build::build(&spec, "two-blocks").expect("builds");
+    let problem = scene::problem_of(&spec, "two-blocks").expect("builds");
     let mut settings = Settings::for_problem(&problem, &spec.solver);
     settings.tol = tol;
     let mut solver = Solver::new(problem, settings).expect("factorizes");
@@ -54,7 +54,7 @@ fn warm_started_solutions_agree_with_cold_ones() {
 #[test]
 fn velocity_amplitude_sweep_is_homogeneous() {
     let spec = scene::registry::builtin("two-blocks").expect("registry");
-    let problem = scene::build::build(&spec, "two-blocks").expect("builds");
+    let problem = scene::problem_of(&spec, "two-blocks").expect("builds");
     let mut settings = Settings::for_problem(&problem, &spec.solver);
     settings.tol = 1e-7;
     let mut solver = Solver::new(problem, settings).expect("factorizes");

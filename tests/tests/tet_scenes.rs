@@ -21,7 +21,7 @@ fn on_tets(name: &str) -> SceneSpec {
 }
 
 fn latin_against_reference(spec: &SceneSpec) -> (f64, f64) {
-    let problem = scene::build::build(spec, &spec.name).expect("builds");
+    let problem = scene::problem_of(spec, &spec.name).expect("builds");
     let tets = problem
         .subs
         .iter()

@@ -36,7 +36,7 @@ fn macro_imbalance(solver: &Solver, s: &InterfaceState) -> f64 {
 }
 
 fn settings(spec: &SceneSpec, tol: f64, two_scale: bool) -> (lopin_core::Problem, Settings) {
-    let problem = scene::build::build(spec, &spec.name).expect("scene builds");
+    let problem = scene::problem_of(spec, &spec.name).expect("scene builds");
     let mut s = Settings::for_problem(&problem, &spec.solver);
     s.tol = tol;
     s.max_iter = 20_000;

@@ -12,7 +12,7 @@ use lopin_reference::monolithic::Monolithic;
 
 fn solve(start: WindowStart, tol: f64) -> (Solver, lopin_core::Solution) {
     let spec = scene::load("two-blocks").expect("scene");
-    let problem = scene::build::build(&spec, &spec.name).expect("scene builds");
+    let problem = scene::problem_of(&spec, &spec.name).expect("scene builds");
     let mut settings = Settings::for_problem(&problem, &spec.solver);
     assert_eq!(settings.window_start, WindowStart::Auto, "the default");
     assert_eq!(

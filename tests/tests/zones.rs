@@ -94,7 +94,7 @@ fn stack() -> SceneSpec {
 }
 
 fn solver(spec: &SceneSpec, tol: f64) -> Solver {
-    let problem = scene::build::build(spec, &spec.name).expect("builds");
+    let problem = scene::problem_of(spec, &spec.name).expect("builds");
     let mut settings = Settings::for_problem(&problem, &spec.solver);
     settings.tol = tol;
     settings.max_iter = 20_000;
@@ -199,13 +199,13 @@ fn bad_zones_are_refused_naming_the_field() {
         ),
     ] {
         let spec = scene::from_toml(&format!("{text}\n{block}"), "bad").expect("parses");
-        let e = scene::build::build(&spec, "bad")
+        let e = scene::problem_of(&spec, "bad")
             .expect_err(block)
             .to_string();
         assert!(e.contains(field) && e.contains(reason), "{block}: {e}");
     }
     let spec = scene::load("two-blocks").expect("scene");
-    let problem = scene::build::build(&spec, "two-blocks").expect("builds");
+    let problem = scene::problem_of(&spec, "two-blocks").expect("builds");
     let e = Target::parse("f@left", &problem)
         .expect_err("no zones")
         .to_string();

@@ -113,7 +113,7 @@ fn scene_file(text: &str, name: &str) -> String {
 fn build(text: &str, name: &str) -> std::result::Result<Problem, String> {
     let path = scene_file(text, name);
     scene::load(&path)
-        .and_then(|s| scene::build::build(&s, &path))
+        .and_then(|s| scene::problem_of(&s, &path))
         .map_err(|e| e.to_string())
 }
 

@@ -6,6 +6,7 @@ use std::process::ExitCode;
 
 use clap::Args;
 use lopin_core::counters::Instant;
+use lopin_core::scene::spec::SolverSpec;
 use lopin_core::window_choice::{Task, WindowRequest};
 
 use super::report::column_table;
@@ -42,20 +43,16 @@ pub fn bench(args: &BenchArgs) -> anyhow::Result<ExitCode> {
         let sargs = SceneArgs {
             scene: args.scene.clone(),
             friction: None,
-            tol: Some(1e-300),
-            k: None,
-            mu: None,
-            rho_inf: None,
-            directions: None,
-            stop: None,
-            anderson: None,
-            window_start: None,
+            set: Vec::new(),
+            solver: SolverSpec {
+                tol: Some(1e-300),
+                max_iter: Some(args.iterations),
+                ..SolverSpec::default()
+            },
             refine,
             split: 1,
             window: Some(WindowRequest::Whole),
             task: Task::Single,
-            max_iter: Some(args.iterations),
-            two_scale: None,
         };
         let mut prepared = prepare(&sargs)?;
         let solver = &mut prepared.solver;

@@ -72,7 +72,7 @@ pub fn estimate(args: &EstimateArgs) -> anyhow::Result<std::process::ExitCode> {
         return Ok(std::process::ExitCode::SUCCESS);
     }
     let source = counted.source.clone();
-    let built = build_admitted(&args.scene, counted, start)?;
+    let built = build_admitted(counted, start)?;
     let solver = Solver::new(built.problem, built.settings)
         .with_context(|| format!("{source}: setting up the solver"))?;
     let e = Estimate::of_solver(&solver);

@@ -39,6 +39,7 @@ pub fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     crate::ranks::agree(args.outputs.check_paths())?;
     let mut prepared = prepare(&args.scene)?;
     let spec = &prepared.spec;
+    let assignments = &prepared.assignments;
     let solver = &mut prepared.solver;
     let root = crate::ranks::is_root();
     let mut recorder = crate::ranks::agree(if root {
@@ -61,7 +62,10 @@ pub fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     );
     let tol = solver.settings().tol;
     let mut record_error = None;
-    let print = checkpoint::fingerprint_of(solver, crate::run_dir::fingerprint::of_scene(spec));
+    let print = checkpoint::fingerprint_of(
+        solver,
+        crate::run_dir::fingerprint::of_scene(spec, assignments),
+    );
     let cp = &args.checkpoints;
     let mut run = crate::ranks::agree(match &cp.restart {
         Some(dir) => checkpoint::load(dir, solver, print),
@@ -147,7 +151,7 @@ pub fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     }
     let outputs_s = t_out.elapsed().as_secs_f64();
 
-    let mut record = RunRecord::new("run", &args.scene.scene, spec, solver);
+    let mut record = RunRecord::new("run", &args.scene.scene, spec, assignments, solver);
     record.result = Some(Outcome {
         iterations: solution.iterations,
         eta: solution.eta,

@@ -12,7 +12,8 @@ use lopin_core::scene::spec::{
     BodySpec, BoundarySpec, ComponentSpec, MaterialSpec, SceneSpec, SolverSpec,
 };
 use lopin_core::time::time_function::TimeGrid;
-use lopin_core::{scene, Settings, Solver};
+use lopin_core::window_choice::Task;
+use lopin_core::{scene, Solver};
 
 use super::report::markdown_table;
 
@@ -120,12 +121,21 @@ struct Row {
 }
 
 fn measure(spec: &SceneSpec, source: &str, args: &ScalingArgs) -> anyhow::Result<Row> {
-    let problem = scene::build::build(spec, source)?;
-    let mut settings = Settings::for_problem(&problem, &spec.solver);
-    settings.tol = args.tol;
-    if let Some(mu) = args.mu {
-        settings.mu = mu;
-    }
+    let overrides = scene::Overrides {
+        solver: SolverSpec {
+            tol: Some(args.tol),
+            mu: args.mu,
+            ..SolverSpec::default()
+        },
+        // the whole interval unless the scene names its windows
+        task: Task::Interactive,
+        ..scene::Overrides::default()
+    };
+    let scene::Opened {
+        problem,
+        mut settings,
+        ..
+    } = scene::open(scene::Source::spec(spec.clone(), source), &overrides)?;
     let (subs, interfaces, contact, dofs) = (
         problem.subs.len(),
         problem.interfaces.len(),

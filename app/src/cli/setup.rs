@@ -1,27 +1,21 @@
-//! Shared setup of a solve from command-line options: scene lookup, refine/split, solver
-//! overrides, problem build and factorization (timed into the setup counter).
+//! Shared setup of a solve from command-line options: the options as the front door's
+//! overrides ([`scene::open`]: refine/split, the settings layer, parameter values), the
+//! refinement that fits when a request does not, and the factorization (timed into the setup
+//! counter).
 
 use anyhow::Context;
 use clap::Args;
 use lopin_core::counters::Instant;
 use lopin_core::estimate::Estimate;
-use lopin_core::interfaces::search_direction::Directions;
-use lopin_core::scene::admission::{admit, Footprint, SolveShape};
-use lopin_core::scene::settings::WindowStart;
-use lopin_core::stages::indicator::StopTest;
+use lopin_core::scene::admission::{Footprint, SolveShape};
+use lopin_core::scene::spec::SolverSpec;
+use lopin_core::scene::Overrides;
+use lopin_core::target::Assignment;
 use lopin_core::window_choice::{choose, Task, WindowChoice, WindowRequest};
 use lopin_core::{scene, LopinError, Parameter, Problem, Settings, Solver};
 
-fn parse_directions(s: &str) -> Result<Directions, String> {
-    Directions::parse(s)
-}
-
-fn parse_window_start(s: &str) -> Result<WindowStart, String> {
-    WindowStart::parse(s).map_err(|e| e.to_string())
-}
-
-fn parse_stop(s: &str) -> Result<StopTest, String> {
-    StopTest::parse(s).map_err(|e| e.to_string())
+fn parse_assignment(s: &str) -> Result<Assignment, String> {
+    Assignment::parse(s).map_err(|e| e.to_string())
 }
 
 /// Options shared by the commands that solve a scene.
@@ -29,37 +23,17 @@ fn parse_stop(s: &str) -> Result<StopTest, String> {
 pub struct SceneArgs {
     /// Built-in scene name (see `lopin scenes`) or path to a .toml scene file.
     pub scene: String,
-    /// Friction coefficient of every contact interface.
+    /// Friction coefficient of every contact interface (`--set f=VALUE`).
     #[arg(long = "f", allow_hyphen_values = true)]
     pub friction: Option<f64>,
-    /// Stopping tolerance on the error indicator η (default 1e-3).
-    #[arg(long, allow_hyphen_values = true)]
-    pub tol: Option<f64>,
-    /// Search direction k in Pa·s/m (default: mean of sqrt(rho E) over the materials).
-    #[arg(long, allow_hyphen_values = true)]
-    pub k: Option<f64>,
-    /// Relaxation μ in (0, 1] (default 0.8).
-    #[arg(long, allow_hyphen_values = true)]
-    pub mu: Option<f64>,
-    /// Spectral radius at infinite frequency of the time scheme in [0, 1]: 1 is the undamped
-    /// trapezoidal rule, smaller damps the highest frequencies (default: the scene's
-    /// `solver.rho_inf`, else 1).
-    #[arg(long = "rho-inf", allow_hyphen_values = true)]
-    pub rho_inf: Option<f64>,
-    /// Shape of the search direction: `isotropic` (the scalar k on every dof) or `wave` (the
-    /// P-wave impedance along the interface normal, the S-wave impedance across it; default:
-    /// the scene's `solver.directions`, else isotropic).
-    #[arg(long, value_parser = parse_directions)]
-    pub directions: Option<Directions>,
-    /// Which indicator ends a window: `eta` (the fields themselves, METHOD §6) or `smooth` (η̄,
-    /// the same measure on step-averaged fields, blind to the undamped rule's alternating mode;
-    /// default: the scene's `solver.stop`, else eta).
-    #[arg(long, value_parser = parse_stop)]
-    pub stop: Option<StopTest>,
-    /// Depth of the Anderson acceleration of the relaxation (0: plain relaxation; default: the
-    /// scene's `solver.anderson`, else 0).
-    #[arg(long, allow_negative_numbers = true)]
-    pub anderson: Option<usize>,
+    /// A parameter of the interface laws set on the built problem, on every interface it
+    /// applies to or on one zone: `f=0.3`, `gap=1e-5`, `v0=2`, `f@top=0.2` (repeatable; applied
+    /// in order, after `--f`).
+    #[arg(long = "set", value_name = "NAME[@ZONE]=VALUE", value_parser = parse_assignment)]
+    pub set: Vec<Assignment>,
+    /// The solver settings, over the scene's `[solver]` table.
+    #[command(flatten)]
+    pub solver: SolverSpec,
     /// Multiply the mesh divisions by K.
     #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     pub refine: usize,
@@ -72,25 +46,37 @@ pub struct SceneArgs {
     /// the report says which).
     #[arg(long, allow_negative_numbers = true, value_parser = WindowRequest::parse)]
     pub window: Option<WindowRequest>,
-    /// Where a cold time window's iteration starts: `smooth` (extrapolate the mean change of
-    /// the last two converged steps), `linear` (the last step's change), `hold` (the last step
-    /// held constant), `zero`, or `auto` (smooth at --tol 1e-3 and tighter, hold above; default:
-    /// the scene's `solver.window_start`, else auto).
-    #[arg(long = "window-start", value_parser = parse_window_start)]
-    pub window_start: Option<WindowStart>,
     /// What the solve is for (set by the command, not an option).
     #[arg(skip)]
     pub task: Task,
-    /// Iteration limit (per window).
-    #[arg(long, allow_negative_numbers = true)]
-    pub max_iter: Option<usize>,
-    /// Two-scale linear stage with the macro problem of METHOD §9 (default: the scene's
-    /// `solver.macro`, else off).
-    #[arg(long = "macro", value_enum)]
-    pub two_scale: Option<Switch>,
 }
 
 impl SceneArgs {
+    /// These options as the front door reads them ([`scene::Overrides`]); `--f` is checked
+    /// here so that its error names it.
+    pub fn overrides(&self) -> anyhow::Result<Overrides> {
+        let mut assignments = Vec::new();
+        if let Some(f) = self.friction {
+            Parameter::Friction.check(f).map_err(|e| match e {
+                LopinError::Setting { reason, .. } => anyhow::anyhow!("--f: {reason}"),
+                other => anyhow::Error::new(other),
+            })?;
+            assignments.push(Assignment {
+                target: "f".into(),
+                value: f,
+            });
+        }
+        assignments.extend(self.set.iter().cloned());
+        Ok(Overrides {
+            refine: self.refine,
+            split: self.split,
+            solver: self.solver.clone(),
+            window: self.window.unwrap_or_default(),
+            task: self.task,
+            assignments,
+        })
+    }
+
     /// The time windows of the solve and why ([`choose`]).
     pub fn windows(&self, spec: &scene::SceneSpec) -> WindowChoice {
         choose(
@@ -112,12 +98,11 @@ impl SceneArgs {
     /// How the solve will run, as far as memory is concerned: the options, else the scene's
     /// `[solver]` table.
     pub fn shape(&self, spec: &scene::SceneSpec) -> SolveShape {
-        let mut shape = SolveShape::of_scene(spec);
-        shape.window = self.windows(spec).window;
-        if let Some(s) = self.two_scale {
-            shape.two_scale = s == Switch::On;
+        SolveShape {
+            window: self.windows(spec).window,
+            two_scale: self.solver.over(&spec.solver).two_scale.unwrap_or(false),
+            skip_unchanged: true,
         }
-        shape
     }
 }
 
@@ -130,16 +115,20 @@ pub enum Switch {
     Off,
 }
 
-/// A ready solver and the resolved scene.
+/// A ready solver and its scene.
 pub struct Prepared {
+    /// The scene as written, after `--refine` and `--split`.
     pub spec: scene::SceneSpec,
+    /// The parameter values set on the problem (`--f`, `--set`).
+    pub assignments: Vec<Assignment>,
     /// The time windows chosen and why.
     pub windows: WindowChoice,
     pub solver: Solver,
 }
 
-/// A built problem, its resolved scene and the LATIN settings the options ask for.
+/// A built problem, its scene and the LATIN settings the options ask for.
 pub struct Built {
+    /// The scene as written, after `--refine` and `--split`.
     pub spec: scene::SceneSpec,
     /// The time windows chosen and why.
     pub windows: WindowChoice,
@@ -147,77 +136,53 @@ pub struct Built {
     pub footprint: Footprint,
     pub problem: Problem,
     pub settings: Settings,
+    /// The parameter values set on the problem (`--f`, `--set`).
+    pub assignments: Vec<Assignment>,
     /// Seconds spent loading and building.
     pub build_s: f64,
 }
 
-/// A scene loaded, refined and split, and admitted: its footprint fits this machine.
-pub struct Admitted {
-    pub spec: scene::SceneSpec,
-    /// How errors name the scene (`scene NAME` or the file path).
-    pub source: String,
-    pub footprint: Footprint,
-}
-
-/// Loads the scene, applies `--refine`, `--split` and `--f`, and counts what a solve will hold
-/// from the scene alone ([`admit`]): nothing large is allocated before the request is known to
-/// fit, and a refusal gives the numbers and what would fit.
-pub fn admitted(args: &SceneArgs) -> anyhow::Result<Admitted> {
-    let mut spec = scene::load(&args.scene)?;
+/// Reads the scene with `--refine`, `--split` and the settings, and counts what a solve will
+/// hold from the scene alone ([`scene::admit`]): nothing large is allocated before the request
+/// is known to fit, and a refusal gives the numbers and what would fit.
+pub fn admitted(args: &SceneArgs) -> anyhow::Result<scene::Admitted> {
     anyhow::ensure!(args.refine >= 1, "--refine must be at least 1");
     anyhow::ensure!(args.split >= 1, "--split must be at least 1");
-    spec.refine(args.refine)
-        .with_context(|| format!("--refine {}", args.refine))?;
-    spec.split(args.split)
-        .with_context(|| format!("--split {}", args.split))?;
-    let source = scene::source_label(&args.scene);
-    // nothing large is allocated before the request is known to fit; loading validated the
-    // scene as written, so only a refined or split one is validated again
-    let resized = args.refine != 1 || args.split != 1;
-    let footprint = (if resized {
-        scene::build::validate(&spec, &source)
-    } else {
-        Ok(())
-    })
-    .and_then(|()| admit(&spec, &source, args.shape(&spec)))
-    .map_err(|e| match &e {
-        LopinError::TooLarge { .. } => match largest_refine_that_fits(args) {
-            Some(r) => anyhow::anyhow!("{e}; with this scene, --refine {r} fits"),
-            None => anyhow::Error::new(e),
-        },
-        _ => anyhow::Error::new(e),
-    })?;
-    if let Some(f) = args.friction {
-        Parameter::Friction.check(f).map_err(|e| match e {
-            lopin_core::LopinError::Setting { reason, .. } => anyhow::anyhow!("--f: {reason}"),
-            other => anyhow::Error::new(other),
-        })?;
-        spec.set_friction(f);
-    }
-    // into the scene, so that run.json, `lopin export` and a sweep's resume check carry it
-    if let Some(r) = args.rho_inf {
+    if let Some(r) = args.solver.rho_inf {
         lopin_core::time::time_scheme::TimeScheme::new(r)
             .check()
             .map_err(|reason| anyhow::anyhow!("--rho-inf {r}: {reason}"))?;
-        spec.solver.rho_inf = Some(r);
     }
-    Ok(Admitted {
-        spec,
-        source,
-        footprint,
+    let overrides = args.overrides()?;
+    scene::admit(&args.scene, &overrides).map_err(|e| match &e {
+        LopinError::TooLarge { .. } => match largest_refine_that_fits(args, &overrides) {
+            Some(r) => anyhow::anyhow!("{e}; with this scene, --refine {r} fits"),
+            None => anyhow::Error::new(e),
+        },
+        LopinError::Setting { field, .. } if field == "refine" || field == "split" => {
+            let flag = format!(
+                "--{field} {}",
+                if field == "refine" {
+                    args.refine
+                } else {
+                    args.split
+                }
+            );
+            anyhow::Error::new(e).context(flag)
+        }
+        _ => anyhow::Error::new(e),
     })
 }
 
 /// The largest `--refine` below the one asked for whose solve fits this machine (None when the
 /// request has no refinement to lower or even `--refine 1` does not fit).
-fn largest_refine_that_fits(args: &SceneArgs) -> Option<usize> {
-    let base = scene::load(&args.scene).ok()?;
-    let source = scene::source_label(&args.scene);
-    let fits = |r: usize| {
-        let mut spec = base.clone();
-        spec.refine(r).is_ok()
-            && spec.split(args.split).is_ok()
-            && admit(&spec, &source, args.shape(&spec)).is_ok()
+fn largest_refine_that_fits(args: &SceneArgs, overrides: &Overrides) -> Option<usize> {
+    let fits = |refine: usize| {
+        let at = Overrides {
+            refine,
+            ..overrides.clone()
+        };
+        scene::admit(&args.scene, &at).is_ok()
     };
     if args.refine <= 1 || !fits(1) {
         return None;
@@ -235,61 +200,24 @@ fn largest_refine_that_fits(args: &SceneArgs) -> Option<usize> {
     Some(lo)
 }
 
-/// Loads and builds the problem and resolves the settings (no factorization).
+/// Reads and builds the problem and resolves the settings (no factorization).
 pub fn build(args: &SceneArgs) -> anyhow::Result<Built> {
     let start = Instant::now();
     let admitted = admitted(args)?;
-    build_admitted(args, admitted, start)
+    build_admitted(admitted, start)
 }
 
-/// [`build`] from a scene already loaded and admitted (`estimate` counts it first), timing the
-/// build from `start`.
-pub fn build_admitted(
-    args: &SceneArgs,
-    Admitted {
-        spec,
-        source,
-        footprint,
-    }: Admitted,
-    start: Instant,
-) -> anyhow::Result<Built> {
-    let problem = scene::build::build(&spec, &source)?;
-    let mut settings = Settings::for_problem(&problem, &spec.solver);
-    if let Some(v) = args.tol {
-        settings.tol = v;
-    }
-    if let Some(v) = args.k {
-        settings.k = v;
-    }
-    if let Some(v) = args.mu {
-        settings.mu = v;
-    }
-    let windows = args.windows(&spec);
-    settings.window = windows.window;
-    if let Some(v) = args.max_iter {
-        settings.max_iter = v;
-    }
-    if let Some(v) = args.two_scale {
-        settings.two_scale = v == Switch::On;
-    }
-    if let Some(v) = args.directions {
-        settings.directions = v;
-    }
-    if let Some(v) = args.stop {
-        settings.stop = v;
-    }
-    if let Some(v) = args.anderson {
-        settings.anderson = v;
-    }
-    if let Some(v) = args.window_start {
-        settings.window_start = v;
-    }
+/// [`build`] from a scene already admitted (`estimate` counts it first), timing the build from
+/// `start`.
+pub fn build_admitted(admitted: scene::Admitted, start: Instant) -> anyhow::Result<Built> {
+    let opened = admitted.build()?;
     Ok(Built {
-        spec,
-        windows,
-        footprint,
-        problem,
-        settings,
+        spec: opened.spec,
+        windows: opened.windows,
+        footprint: opened.footprint,
+        problem: opened.problem,
+        settings: opened.settings,
+        assignments: opened.assignments,
         build_s: start.elapsed().as_secs_f64(),
     })
 }
@@ -325,6 +253,7 @@ pub fn prepare(args: &SceneArgs) -> anyhow::Result<Prepared> {
     }
     Ok(Prepared {
         spec: built.spec,
+        assignments: built.assignments,
         windows: built.windows,
         solver,
     })

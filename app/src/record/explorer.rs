@@ -85,9 +85,9 @@ impl SolveRecorder for ExplorerRecorder {
                 ("iterations", s.solution.iterations as f64),
                 ("eta", s.solution.eta),
                 ("warm", f64::from(u8::from(s.warm))),
-                ("k", p.k),
-                ("mu", p.mu),
-                ("tol", p.tol),
+                ("k", p.settings.k),
+                ("mu", p.settings.mu),
+                ("tol", p.settings.tol),
             ];
             values.extend(p.friction.map(|f| ("f", f)));
             values.extend(p.gap.map(|g| ("gap", g)));

@@ -1,8 +1,8 @@
 //! What a saved file belongs to, as a stable 64-bit [`Fingerprint`], and the crc32 checksums of
 //! the files themselves.
 //!
-//! A fingerprint hashes the resolved scene ([`lopin_core::scene::to_toml`], after `--refine`,
-//! `--split`, `--f`) together with the LATIN settings that change the solution
+//! A fingerprint hashes the scene ([`lopin_core::scene::to_toml`], after `--refine` and
+//! `--split`) and the parameter values set on its problem (`--f`, `--set`) together with the LATIN settings that change the solution
 //! ([`lopin_core::Settings`] through serde_json), or, for a sweep, its header (which holds both
 //! as fingerprints, the parameter, its values, mode and predictor). `solution.bin` and every
 //! `value-NNN.state` carry the fingerprint of what they were computed for, and readers refuse a
@@ -17,6 +17,7 @@ use std::fmt;
 use std::str::FromStr;
 
 use lopin_core::scene::{self, SceneSpec};
+use lopin_core::target::Assignment;
 use lopin_core::Settings;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
@@ -76,9 +77,15 @@ impl<'de> Deserialize<'de> for Fingerprint {
     }
 }
 
-/// The resolved scene: its TOML text.
-pub fn of_scene(spec: &SceneSpec) -> Fingerprint {
-    Fingerprint::of_parts(&[("scene", scene::to_toml(spec).as_bytes())])
+/// The scene and the parameter values set on its problem: its TOML text, and the values'
+/// JSON when there are any.
+pub fn of_scene(spec: &SceneSpec, assignments: &[Assignment]) -> Fingerprint {
+    let (toml, values) = (scene::to_toml(spec), json_bytes(&assignments));
+    let mut parts: Vec<(&str, &[u8])> = vec![("scene", toml.as_bytes())];
+    if !assignments.is_empty() {
+        parts.push(("assignments", values.as_slice()));
+    }
+    Fingerprint::of_parts(&parts)
 }
 
 /// The LATIN settings: their JSON text.
@@ -86,12 +93,20 @@ pub fn of_settings(settings: &Settings) -> Fingerprint {
     of_json("settings", settings)
 }
 
-/// What a run's `solution.bin` belongs to: the resolved scene and the settings.
-pub fn of_run(spec: &SceneSpec, settings: &Settings) -> Fingerprint {
-    Fingerprint::of_parts(&[
-        ("scene", scene::to_toml(spec).as_bytes()),
-        ("settings", json_bytes(settings).as_slice()),
-    ])
+/// What a run's `solution.bin` belongs to: the scene, the parameter values set on its problem
+/// (when there are any) and the settings.
+pub fn of_run(spec: &SceneSpec, assignments: &[Assignment], settings: &Settings) -> Fingerprint {
+    let (toml, values, settings) = (
+        scene::to_toml(spec),
+        json_bytes(&assignments),
+        json_bytes(settings),
+    );
+    let mut parts: Vec<(&str, &[u8])> = vec![("scene", toml.as_bytes())];
+    if !assignments.is_empty() {
+        parts.push(("assignments", values.as_slice()));
+    }
+    parts.push(("settings", settings.as_slice()));
+    Fingerprint::of_parts(&parts)
 }
 
 /// Any serializable value under a tag, through its compact JSON text.
@@ -141,7 +156,7 @@ mod tests {
         let spec = scene::load("mini-blocks").expect("scene");
         let mut denser = spec.clone();
         denser.materials[0].density *= 1.01;
-        assert_eq!(of_scene(&spec), of_scene(&spec.clone()));
-        assert_ne!(of_scene(&spec), of_scene(&denser));
+        assert_eq!(of_scene(&spec, &[]), of_scene(&spec.clone(), &[]));
+        assert_ne!(of_scene(&spec, &[]), of_scene(&denser, &[]));
     }
 }

@@ -1,5 +1,6 @@
-//! `run.json`: how a run or sweep directory was made, so it can be reproduced: the resolved
-//! scene (after --refine, --split, --f), the LATIN settings (METHOD §10), the problem's sizes,
+//! `run.json`: how a run or sweep directory was made, so it can be reproduced: the scene
+//! (after --refine and --split), the parameter values set on its problem (--f, --set), the
+//! LATIN settings (METHOD §10), the problem's sizes,
 //! the Lopin version and commit, the command line, the outcome and the timings. `lopin export`
 //! rebuilds the solver from it, and checks that `solution.bin` belongs to it: the file carries
 //! the [`Fingerprint`] of run.json's scene and settings ([`RunRecord::fingerprint`]).
@@ -11,6 +12,7 @@ use super::solution_file;
 use crate::build_info;
 use anyhow::Context;
 use lopin_core::scene::{self, SceneSpec};
+use lopin_core::target::Assignment;
 use lopin_core::{Problem, Settings, Solution, Solver};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -101,8 +103,11 @@ pub struct RunRecord {
     pub created_unix_s: u64,
     /// Scene as given (built-in name or file).
     pub scene_source: String,
-    /// The resolved scene.
+    /// The scene, after `--refine` and `--split`.
     pub scene: SceneSpec,
+    /// The parameter values set on its problem (`--f`, `--set`), in order.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub assignments: Vec<Assignment>,
     /// All LATIN settings.
     pub settings: Settings,
     pub problem: ProblemFacts,
@@ -119,8 +124,14 @@ pub struct RunRecord {
 }
 
 impl RunRecord {
-    /// A record of `kind` for a solver built from `spec`.
-    pub fn new(kind: &str, scene_source: &str, spec: &SceneSpec, solver: &Solver) -> Self {
+    /// A record of `kind` for a solver built from `spec` with `assignments` set.
+    pub fn new(
+        kind: &str,
+        scene_source: &str,
+        spec: &SceneSpec,
+        assignments: &[Assignment],
+        solver: &Solver,
+    ) -> Self {
         RunRecord {
             kind: kind.into(),
             lopin: Provenance {
@@ -133,6 +144,7 @@ impl RunRecord {
                 .map_or(0, |d| d.as_secs()),
             scene_source: scene_source.into(),
             scene: spec.clone(),
+            assignments: assignments.to_vec(),
             settings: *solver.settings(),
             problem: ProblemFacts::of(solver.problem()),
             timings_s: Timings::default(),
@@ -158,7 +170,7 @@ impl RunRecord {
     /// What this run's `solution.bin` belongs to: its scene and settings as read from
     /// run.json ([`fingerprint::of_run`]).
     pub fn fingerprint(&self) -> Fingerprint {
-        fingerprint::of_run(&self.scene, &self.settings)
+        fingerprint::of_run(&self.scene, &self.assignments, &self.settings)
     }
 
     /// [`Self::fingerprint`] of this record as a reader of its run.json will see it (numbers
@@ -169,15 +181,21 @@ impl RunRecord {
         #[derive(Serialize, Deserialize)]
         struct Identity {
             scene: SceneSpec,
+            assignments: Vec<Assignment>,
             settings: Settings,
         }
         let text = serde_json::to_string(&Identity {
             scene: self.scene.clone(),
+            assignments: self.assignments.clone(),
             settings: self.settings,
         })?;
         let back: Identity = serde_json::from_str(&text)
             .context("run.json's scene and settings do not read back")?;
-        Ok(fingerprint::of_run(&back.scene, &back.settings))
+        Ok(fingerprint::of_run(
+            &back.scene,
+            &back.assignments,
+            &back.settings,
+        ))
     }
 
     /// Writes `dir/run.json` (temporary file, then rename).
@@ -223,14 +241,28 @@ impl RunRecord {
     /// Rebuilds the problem and factorizes it with the recorded settings.
     pub fn solver(&self) -> anyhow::Result<Solver> {
         let label = scene::source_label(&self.scene_source);
-        let problem = scene::build::build(&self.scene, &label)
-            .with_context(|| format!("rebuilding {label} from run.json"))?;
+        // the scheme the run had (records without ρ∞ in their settings held it in the scene)
+        let settings = Settings {
+            rho_inf: self.problem.rho_inf,
+            ..self.settings
+        };
+        let overrides = scene::Overrides {
+            solver: scene::spec::SolverSpec {
+                rho_inf: Some(settings.rho_inf),
+                ..Default::default()
+            },
+            assignments: self.assignments.clone(),
+            ..scene::Overrides::default()
+        };
+        let problem = scene::open(scene::Source::spec(self.scene.clone(), &label), &overrides)
+            .with_context(|| format!("rebuilding {label} from run.json"))?
+            .problem;
         let facts = ProblemFacts::of(&problem);
         anyhow::ensure!(
             facts == self.problem,
             "run.json: the scene rebuilds to {facts:?}, the run had {:?}",
             self.problem
         );
-        Ok(Solver::new(problem, self.settings)?)
+        Ok(Solver::new(problem, settings)?)
     }
 }

@@ -354,7 +354,7 @@ mod tests {
 
     fn dense_check(scheme: crate::time::time_scheme::TimeScheme) {
         let spec = scene::load("bar").expect("scene");
-        let problem = scene::build::build(&spec, "bar").expect("build");
+        let problem = scene::problem_of(&spec, "bar").expect("build");
         let sub = &problem.subs[0];
         let (n, dt, k) = (sub.ndof(), problem.time.dt, problem.default_k());
         let c = scheme.coefficients(dt);

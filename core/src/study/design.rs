@@ -9,7 +9,7 @@
 
 use crate::error::{LopinError, Result};
 use crate::splitmix::SplitMix64;
-use crate::study::target::Target;
+use crate::target::Target;
 
 /// The most configurations a study may hold.
 pub const MAX_CONFIGURATIONS: usize = 1_000_000;

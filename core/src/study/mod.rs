@@ -12,10 +12,9 @@ pub mod projection;
 pub mod quantities;
 pub mod runner;
 pub mod store;
-pub mod target;
 
 pub use design::{Design, Sampling, Spread};
+pub use lopin_model::target::{self, Target};
 pub use path::{Chains, Path};
 pub use quantities::Quantities;
 pub use store::StateStore;
-pub use target::Target;

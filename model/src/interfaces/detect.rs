@@ -82,119 +82,201 @@ pub fn detect_interfaces_grouped(
     };
     let boxes: Vec<(Vec3, Vec3)> = subs.iter().map(|s| s.mesh.bounding_box()).collect();
     let diameter = model_diameter(&boxes);
-    let quantum = 1e-9 * diameter.max(f64::MIN_POSITIVE);
-    let key = |c: Vec3| -> [i64; 3] { std::array::from_fn(|a| (c[a] / quantum).round() as i64) };
-
-    // Global hash of face centroids.
-    let mut grid: HashMap<[i64; 3], Vec<(usize, usize)>> = HashMap::new();
-    for (s, fs) in faces.iter().enumerate() {
-        for (f, face) in fs.iter().enumerate() {
-            grid.entry(key(face.centroid)).or_default().push((s, f));
-        }
-    }
-
-    let mut matched: Vec<Vec<bool>> = faces.iter().map(|f| vec![false; f.len()]).collect();
-    let mut groups: BTreeMap<(usize, usize), Vec<FaceMatch>> = BTreeMap::new();
-
-    // Phase 1: coincident faces.
-    for (s, fs) in faces.iter().enumerate() {
-        for (f, face) in fs.iter().enumerate() {
-            let tol = REL_TOL * face.area.sqrt();
-            let k = key(face.centroid);
-            for d in neighbour_offsets() {
-                let kk = [k[0] + d[0], k[1] + d[1], k[2] + d[2]];
-                let Some(cands) = grid.get(&kk) else { continue };
-                for &(t, g) in cands {
-                    if t <= s {
-                        continue;
-                    }
-                    let other = &faces[t][g];
-                    if norm(sub(other.centroid, face.centroid)) > tol
-                        || dot(face.normal, other.normal) > -FACING
-                    {
-                        continue;
-                    }
-                    let rule = pair_rule(s, t);
-                    if rule == PairRule::Free {
-                        continue;
-                    }
-                    let pairs = pair_nodes(subs, s, face, t, other, [0.0; 3], tol)
-                        .ok_or_else(|| nonconforming(subs, s, t, face.centroid))?;
-                    matched[s][f] = true;
-                    matched[t][g] = true;
-                    let group = match rule {
-                        PairRule::Contact { .. } => pair_group(group(s, face), group(t, other)),
-                        _ => 0,
-                    };
-                    groups.entry((s, t)).or_default().push(FaceMatch {
-                        face: face.clone(),
-                        pairs,
-                        distance: 0.0,
-                        group,
-                    });
-                }
-            }
-        }
-    }
-
-    // Phase 2: contact faces facing each other across a gap (pairs whose bounding boxes are
-    // farther apart than the search distance are skipped before their faces are compared).
-    let mut max_search = 0.0f64;
     let sweep = BoxSweep::new(&boxes);
-    let reach = search_bound.max(0.0) + REL_TOL * diameter;
-    for s in 0..subs.len() {
-        let (lo, hi) = boxes[s];
-        for t in sweep.meeting(lo[0] - reach, hi[0] + reach) {
-            if t <= s {
-                continue;
-            }
-            let PairRule::Contact { search, .. } = pair_rule(s, t) else {
-                continue;
-            };
-            max_search = max_search.max(search);
-            if search <= 0.0 || box_distance(&boxes[s], &boxes[t]) > search + REL_TOL * diameter {
-                continue;
-            }
-            for (f, face) in faces[s].iter().enumerate() {
-                if matched[s][f] {
-                    continue;
-                }
-                let tol = REL_TOL * face.area.sqrt();
-                for (g, other) in faces[t].iter().enumerate() {
-                    if matched[t][g] || dot(face.normal, other.normal) > -FACING {
-                        continue;
-                    }
-                    let d = sub(other.centroid, face.centroid);
-                    let dist = dot(d, face.normal);
-                    let lateral = sub(d, scale(face.normal, dist));
-                    if dist < -tol || dist > search + tol || norm(lateral) > tol {
-                        continue;
-                    }
-                    let shift = scale(face.normal, dist);
-                    let pairs = pair_nodes(subs, s, face, t, other, shift, tol)
-                        .ok_or_else(|| nonconforming(subs, s, t, face.centroid))?;
-                    matched[s][f] = true;
-                    matched[t][g] = true;
-                    groups.entry((s, t)).or_default().push(FaceMatch {
-                        face: face.clone(),
-                        pairs,
-                        distance: dist.max(0.0),
-                        group: pair_group(group(s, face), group(t, other)),
-                    });
-                    break;
-                }
-            }
-        }
-    }
+    let scene = SceneFaces {
+        subs,
+        faces: &faces,
+        boxes: &boxes,
+        sweep: &sweep,
+        pair_rule: &pair_rule,
+        group,
+    };
+    let mut found = Matches {
+        matched: faces.iter().map(|f| vec![false; f.len()]).collect(),
+        groups: BTreeMap::new(),
+    };
+    scene.match_coincident(diameter, &mut found)?;
+    let max_search = scene.match_across_gaps(search_bound, diameter, &mut found)?;
+    scene.check_conforming(&found.matched, max_search)?;
 
-    check_conforming(
-        subs, &boxes, &sweep, &faces, &matched, &pair_rule, max_search,
-    )?;
-
-    Ok(groups
+    Ok(found
+        .groups
         .into_iter()
         .flat_map(|((s, t), matches)| build_two_sided(subs, s, t, &matches, pair_rule(s, t)))
         .collect())
+}
+
+/// The substructures with their boundary faces, bounding boxes (and their sweep along x), how
+/// two of them are joined (`pair_rule(s, t)`) and the face groups (`group(s, face)`): what
+/// interface detection reads.
+struct SceneFaces<'a> {
+    subs: &'a [Substructure],
+    faces: &'a [Vec<Face>],
+    boxes: &'a [(Vec3, Vec3)],
+    sweep: &'a BoxSweep,
+    pair_rule: &'a dyn Fn(usize, usize) -> PairRule,
+    group: &'a dyn Fn(usize, &Face) -> usize,
+}
+
+/// The face pairs found so far: per substructure and boundary face, whether it is matched, and
+/// the matched pairs per pair of substructures (s < t).
+struct Matches {
+    matched: Vec<Vec<bool>>,
+    groups: BTreeMap<(usize, usize), Vec<FaceMatch>>,
+}
+
+/// The hash key of a point: its coordinates rounded to multiples of `quantum`.
+fn centroid_key(c: Vec3, quantum: f64) -> [i64; 3] {
+    std::array::from_fn(|a| (c[a] / quantum).round() as i64)
+}
+
+impl SceneFaces<'_> {
+    /// Global hash of the face centroids ([`centroid_key`]): per key, the (substructure, face)
+    /// indices of the faces whose centroid it holds, in order.
+    fn centroid_grid(&self, quantum: f64) -> HashMap<[i64; 3], Vec<(usize, usize)>> {
+        let mut grid: HashMap<[i64; 3], Vec<(usize, usize)>> = HashMap::new();
+        for (s, fs) in self.faces.iter().enumerate() {
+            for (f, face) in fs.iter().enumerate() {
+                grid.entry(centroid_key(face.centroid, quantum))
+                    .or_default()
+                    .push((s, f));
+            }
+        }
+        grid
+    }
+
+    /// Phase 1: matches the coincident faces of every two substructures (s < t) whose centroids
+    /// hash to neighbouring keys of the centroid grid (`diameter`: that of the model).
+    fn match_coincident(&self, diameter: f64, found: &mut Matches) -> Result<()> {
+        let quantum = 1e-9 * diameter.max(f64::MIN_POSITIVE);
+        let grid = self.centroid_grid(quantum);
+        for (s, fs) in self.faces.iter().enumerate() {
+            for (f, face) in fs.iter().enumerate() {
+                let tol = REL_TOL * face.area.sqrt();
+                let k = centroid_key(face.centroid, quantum);
+                for d in neighbour_offsets() {
+                    let kk = [k[0] + d[0], k[1] + d[1], k[2] + d[2]];
+                    let Some(cands) = grid.get(&kk) else { continue };
+                    for &(t, g) in cands {
+                        if t <= s {
+                            continue;
+                        }
+                        self.match_coincident_pair((s, f), (t, g), tol, found)?;
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Matches face f of substructure s with face g of substructure t when their centroids
+    /// coincide within `tol`, they face each other and their bodies are not free of each
+    /// other; a contact pair takes the group of its faces ([`pair_group`]). Errors when such
+    /// faces do not pair node to node.
+    fn match_coincident_pair(
+        &self,
+        (s, f): (usize, usize),
+        (t, g): (usize, usize),
+        tol: f64,
+        found: &mut Matches,
+    ) -> Result<()> {
+        let face = &self.faces[s][f];
+        let other = &self.faces[t][g];
+        if norm(sub(other.centroid, face.centroid)) > tol
+            || dot(face.normal, other.normal) > -FACING
+        {
+            return Ok(());
+        }
+        let rule = (self.pair_rule)(s, t);
+        if rule == PairRule::Free {
+            return Ok(());
+        }
+        let pairs = pair_nodes(self.subs, s, face, t, other, [0.0; 3], tol)
+            .ok_or_else(|| nonconforming(self.subs, s, t, face.centroid))?;
+        found.matched[s][f] = true;
+        found.matched[t][g] = true;
+        let group = match rule {
+            PairRule::Contact { .. } => pair_group((self.group)(s, face), (self.group)(t, other)),
+            _ => 0,
+        };
+        found.groups.entry((s, t)).or_default().push(FaceMatch {
+            face: face.clone(),
+            pairs,
+            distance: 0.0,
+            group,
+        });
+        Ok(())
+    }
+
+    /// Phase 2: contact faces facing each other across a gap (pairs whose bounding boxes are
+    /// farther apart than the search distance are skipped before their faces are compared;
+    /// `search_bound` bounds every search distance, `diameter` is that of the model). Returns
+    /// the largest search distance of the contacts met.
+    fn match_across_gaps(
+        &self,
+        search_bound: f64,
+        diameter: f64,
+        found: &mut Matches,
+    ) -> Result<f64> {
+        let mut max_search = 0.0f64;
+        let reach = search_bound.max(0.0) + REL_TOL * diameter;
+        for s in 0..self.subs.len() {
+            let (lo, hi) = self.boxes[s];
+            for t in self.sweep.meeting(lo[0] - reach, hi[0] + reach) {
+                if t <= s {
+                    continue;
+                }
+                let PairRule::Contact { search, .. } = (self.pair_rule)(s, t) else {
+                    continue;
+                };
+                max_search = max_search.max(search);
+                if search <= 0.0
+                    || box_distance(&self.boxes[s], &self.boxes[t]) > search + REL_TOL * diameter
+                {
+                    continue;
+                }
+                self.match_gap_faces(s, t, search, found)?;
+            }
+        }
+        Ok(max_search)
+    }
+
+    /// Matches each unmatched face of substructure s with the first unmatched face of t that
+    /// faces it across a gap of at most `search` (centroids aligned along the normal within the
+    /// face's tolerance), pairing their nodes across the gap. Errors when such faces do not pair
+    /// node to node.
+    fn match_gap_faces(&self, s: usize, t: usize, search: f64, found: &mut Matches) -> Result<()> {
+        for (f, face) in self.faces[s].iter().enumerate() {
+            if found.matched[s][f] {
+                continue;
+            }
+            let tol = REL_TOL * face.area.sqrt();
+            for (g, other) in self.faces[t].iter().enumerate() {
+                if found.matched[t][g] || dot(face.normal, other.normal) > -FACING {
+                    continue;
+                }
+                let d = sub(other.centroid, face.centroid);
+                let dist = dot(d, face.normal);
+                let lateral = sub(d, scale(face.normal, dist));
+                if dist < -tol || dist > search + tol || norm(lateral) > tol {
+                    continue;
+                }
+                let shift = scale(face.normal, dist);
+                let pairs = pair_nodes(self.subs, s, face, t, other, shift, tol)
+                    .ok_or_else(|| nonconforming(self.subs, s, t, face.centroid))?;
+                found.matched[s][f] = true;
+                found.matched[t][g] = true;
+                found.groups.entry((s, t)).or_default().push(FaceMatch {
+                    face: face.clone(),
+                    pairs,
+                    distance: dist.max(0.0),
+                    group: pair_group((self.group)(s, face), (self.group)(t, other)),
+                });
+                break;
+            }
+        }
+        Ok(())
+    }
 }
 
 /// The group of a matched face pair from its two faces' (0: none).
@@ -459,93 +541,116 @@ fn pair_nodes(
         .collect()
 }
 
-/// Errors when an unmatched face of one substructure lies on a boundary face of another
-/// (the two touch on a face region without conforming nodes), or faces another across a contact
-/// search distance (at most `max_search`) without pairing.
-fn check_conforming(
-    subs: &[Substructure],
-    boxes: &[(Vec3, Vec3)],
-    sweep: &BoxSweep,
-    faces: &[Vec<Face>],
-    matched: &[Vec<bool>],
-    pair_rule: &dyn Fn(usize, usize) -> PairRule,
-    max_search: f64,
-) -> Result<()> {
-    for (s, fs) in faces.iter().enumerate() {
-        let mut near_contacts: Option<Vec<(usize, f64)>> = None;
-        for (f, face) in fs.iter().enumerate() {
-            if matched[s][f] {
+impl SceneFaces<'_> {
+    /// Errors when an unmatched face of one substructure lies on a boundary face of another
+    /// (the two touch on a face region without conforming nodes), or faces another across a
+    /// contact search distance (at most `max_search`) without pairing.
+    fn check_conforming(&self, matched: &[Vec<bool>], max_search: f64) -> Result<()> {
+        for (s, fs) in self.faces.iter().enumerate() {
+            let mut near_contacts: Option<Vec<(usize, f64)>> = None;
+            for (f, face) in fs.iter().enumerate() {
+                if matched[s][f] {
+                    continue;
+                }
+                let tol = REL_TOL * face.area.sqrt();
+                self.check_not_lying_on(s, face, tol)?;
+                // a contact face facing another body's face across a gap within the search
+                // distance pairs node to node, or is reported: a contact never disappears
+                // silently
+                if max_search <= 0.0 {
+                    continue;
+                }
+                // the substructures in contact with s within reach of any of its faces, once per s
+                let near = near_contacts.get_or_insert_with(|| self.near_contacts(s, max_search));
+                self.check_not_facing(s, face, tol, near, max_search)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Errors when the unmatched `face` of substructure s lies (within `tol`) on a facing
+    /// boundary face of another substructure whose body is not free of s's.
+    fn check_not_lying_on(&self, s: usize, face: &Face, tol: f64) -> Result<()> {
+        let c = face.centroid[0];
+        for t in self.sweep.meeting(c - tol, c + tol) {
+            let (lo, hi) = &self.boxes[t];
+            if t == s
+                || (0..3).any(|a| face.centroid[a] < lo[a] - tol || face.centroid[a] > hi[a] + tol)
+                || (self.pair_rule)(s, t) == PairRule::Free
+            {
                 continue;
             }
-            let tol = REL_TOL * face.area.sqrt();
-            let c = face.centroid[0];
-            for t in sweep.meeting(c - tol, c + tol) {
-                let (lo, hi) = &boxes[t];
-                if t == s
-                    || (0..3)
-                        .any(|a| face.centroid[a] < lo[a] - tol || face.centroid[a] > hi[a] + tol)
-                    || pair_rule(s, t) == PairRule::Free
+            for other in &self.faces[t] {
+                if dot(face.normal, other.normal) > -FACING {
+                    continue;
+                }
+                let d = sub(face.centroid, other.centroid);
+                if dot(d, other.normal).abs() <= tol
+                    && point_in_face(self.subs, t, other, face.centroid)
                 {
-                    continue;
-                }
-                for other in &faces[t] {
-                    if dot(face.normal, other.normal) > -FACING {
-                        continue;
-                    }
-                    let d = sub(face.centroid, other.centroid);
-                    if dot(d, other.normal).abs() <= tol
-                        && point_in_face(subs, t, other, face.centroid)
-                    {
-                        return Err(nonconforming(subs, s, t, face.centroid));
-                    }
-                }
-            }
-            // a contact face facing another body's face across a gap within the search distance
-            // pairs node to node, or is reported: a contact never disappears silently
-            if max_search <= 0.0 {
-                continue;
-            }
-            // the substructures in contact with s within reach of any of its faces, once per s
-            let near = near_contacts.get_or_insert_with(|| {
-                let widest = fs.iter().map(|f| f.area.sqrt()).fold(0.0, f64::max);
-                let reach = max_search + REL_TOL * widest;
-                let (lo, hi) = boxes[s];
-                sweep
-                    .meeting(lo[0] - reach, hi[0] + reach)
-                    .into_iter()
-                    .filter(|&t| t != s && box_distance(&boxes[s], &boxes[t]) <= reach)
-                    .filter_map(|t| match pair_rule(s, t) {
-                        PairRule::Contact { search, .. } if search > 0.0 => Some((t, search)),
-                        _ => None,
-                    })
-                    .collect()
-            });
-            for &(t, search) in near.iter() {
-                let apart = box_distance(&boxes[s], &boxes[t]);
-                if apart > max_search + tol || apart > search + tol {
-                    continue;
-                }
-                for other in &faces[t] {
-                    if dot(face.normal, other.normal) > -FACING {
-                        continue;
-                    }
-                    let dist = dot(sub(other.centroid, face.centroid), face.normal);
-                    if dist < -tol || dist > search + tol {
-                        continue;
-                    }
-                    let across = [
-                        face.centroid[0] + dist * face.normal[0],
-                        face.centroid[1] + dist * face.normal[1],
-                        face.centroid[2] + dist * face.normal[2],
-                    ];
-                    if point_in_face(subs, t, other, across) {
-                        return Err(nonconforming(subs, s, t, face.centroid));
-                    }
+                    return Err(nonconforming(self.subs, s, t, face.centroid));
                 }
             }
         }
+        Ok(())
     }
-    Ok(())
+
+    /// The substructures in contact with s (with a positive search distance, returned beside
+    /// each) whose bounding boxes lie within `max_search` plus the tolerance of s's widest face.
+    fn near_contacts(&self, s: usize, max_search: f64) -> Vec<(usize, f64)> {
+        let widest = self.faces[s]
+            .iter()
+            .map(|f| f.area.sqrt())
+            .fold(0.0, f64::max);
+        let reach = max_search + REL_TOL * widest;
+        let (lo, hi) = self.boxes[s];
+        self.sweep
+            .meeting(lo[0] - reach, hi[0] + reach)
+            .into_iter()
+            .filter(|&t| t != s && box_distance(&self.boxes[s], &self.boxes[t]) <= reach)
+            .filter_map(|t| match (self.pair_rule)(s, t) {
+                PairRule::Contact { search, .. } if search > 0.0 => Some((t, search)),
+                _ => None,
+            })
+            .collect()
+    }
+
+    /// Errors when the unmatched `face` of substructure s faces a boundary face of one of the
+    /// `near` contacts across a gap within that contact's search distance (and `max_search`),
+    /// the point across the gap from its centroid lying inside that face.
+    fn check_not_facing(
+        &self,
+        s: usize,
+        face: &Face,
+        tol: f64,
+        near: &[(usize, f64)],
+        max_search: f64,
+    ) -> Result<()> {
+        for &(t, search) in near {
+            let apart = box_distance(&self.boxes[s], &self.boxes[t]);
+            if apart > max_search + tol || apart > search + tol {
+                continue;
+            }
+            for other in &self.faces[t] {
+                if dot(face.normal, other.normal) > -FACING {
+                    continue;
+                }
+                let dist = dot(sub(other.centroid, face.centroid), face.normal);
+                if dist < -tol || dist > search + tol {
+                    continue;
+                }
+                let across = [
+                    face.centroid[0] + dist * face.normal[0],
+                    face.centroid[1] + dist * face.normal[1],
+                    face.centroid[2] + dist * face.normal[2],
+                ];
+                if point_in_face(self.subs, t, other, across) {
+                    return Err(nonconforming(self.subs, s, t, face.centroid));
+                }
+            }
+        }
+        Ok(())
+    }
 }
 
 /// Whether point p (on the face's plane) lies strictly inside the convex face.

@@ -145,7 +145,7 @@ mod tests {
     #[test]
     fn wave_factors_are_the_impedance_ratios_along_and_across_the_normal() {
         let spec = scene::load("two-blocks").expect("scene");
-        let mut p = scene::build::build(&spec, "two-blocks").expect("build");
+        let mut p = scene::problem_of(&spec, "two-blocks").expect("build");
         apply(&mut p, Directions::Wave);
         let k0 = p.default_k();
         let contact = p

@@ -94,96 +94,13 @@ pub fn resolve(
     let bodies: std::collections::HashSet<&str> = subs.iter().map(|s| s.body.as_str()).collect();
     let mut zones: Vec<Zone> = Vec::with_capacity(specs.len());
     for (z, spec) in specs.iter().enumerate() {
-        let field = |f: &str| format!("zone[{z}].{f}");
-        let bad = |f: &str, why: String| LopinError::scene(source, field(f), why);
-        let named = !spec.name.is_empty()
-            && spec
-                .name
-                .chars()
-                .all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_');
-        if !named {
-            return Err(bad(
-                "name",
-                format!(
-                    "`{}` is not a zone name (letters, digits, `-` and `_`)",
-                    spec.name
-                ),
-            ));
-        }
-        if zones.iter().any(|o| o.name == spec.name) {
-            return Err(bad(
-                "name",
-                format!("zone `{}` is defined twice", spec.name),
-            ));
-        }
-        for (p, pair) in spec.bodies.iter().enumerate() {
-            for b in pair {
-                if !bodies.contains(b.as_str()) {
-                    return Err(bad(
-                        &format!("bodies[{p}]"),
-                        format!("no body is named `{b}`"),
-                    ));
-                }
-            }
-        }
-        let (lo, hi) = (
-            spec.min.unwrap_or([f64::NEG_INFINITY; 3]),
-            spec.max.unwrap_or([f64::INFINITY; 3]),
-        );
-        if let Some(q) = (0..3).find(|&q| lo[q].partial_cmp(&hi[q]).is_none_or(|o| o.is_gt())) {
-            return Err(bad(
-                "min",
-                format!("min[{q}] = {} is not below max[{q}] = {}", lo[q], hi[q]),
-            ));
-        }
-        let inside = |iface: &Interface| {
-            let c = centre(iface, subs);
-            (0..3).all(|q| lo[q] <= c[q] && c[q] <= hi[q])
-        };
-        let pair_listed = |a: &str, b: &str| {
-            spec.bodies.is_empty()
-                || spec
-                    .bodies
-                    .iter()
-                    .any(|[x, y]| (x == a && y == b) || (x == b && y == a))
-        };
-        let body_named =
-            |a: &str| spec.bodies.is_empty() || spec.bodies.iter().any(|[x, y]| x == a || y == a);
-        let on_surface = |i: usize| {
-            spec.surfaces.is_empty()
-                || surface_of
-                    .get(i)
-                    .and_then(Option::as_deref)
-                    .is_some_and(|s| spec.surfaces.iter().any(|n| n == s))
-        };
-        let mut zone = Zone {
-            name: spec.name.clone(),
-            contacts: Vec::new(),
-            boundaries: Vec::new(),
-        };
-        for (i, iface) in interfaces.iter().enumerate() {
-            let body = |s: usize| subs[iface.sides[s].sub].body.as_str();
-            match &iface.law {
-                Law::Contact(_)
-                    if pair_listed(body(0), body(1)) && inside(iface) && on_surface(i) =>
-                {
-                    zone.contacts.push(i);
-                }
-                Law::Boundary(dofs)
-                    if dofs
-                        .iter()
-                        .any(|d| matches!(d.law, DofLaw::Velocity(f) if f.amplitude != 0.0))
-                        && body_named(body(0))
-                        && inside(iface)
-                        && on_surface(i) =>
-                {
-                    zone.boundaries.push(i);
-                }
-                _ => {}
-            }
-        }
+        check_name(spec, z, &zones, source)?;
+        let bounds = check_bodies_and_box(spec, z, &bodies, source)?;
+        let zone = select(spec, bounds, subs, interfaces, surface_of);
         if zone.contacts.is_empty() && zone.boundaries.is_empty() {
-            return Err(bad(
+            return Err(zone_error(
+                source,
+                z,
                 if !spec.surfaces.is_empty() {
                     "surfaces"
                 } else if spec.min.is_some() || spec.max.is_some() {
@@ -200,4 +117,131 @@ pub fn resolve(
         zones.push(zone);
     }
     Ok(zones)
+}
+
+/// The error for field `zone[z].f` of `source`.
+fn zone_error(source: &str, z: usize, f: &str, why: String) -> LopinError {
+    LopinError::scene(source, format!("zone[{z}].{f}"), why)
+}
+
+/// Checks the name of zone `z`: not empty, only letters, digits, `-` and `_`, and not that of
+/// an earlier zone (`zones`).
+fn check_name(spec: &ZoneSpec, z: usize, zones: &[Zone], source: &str) -> Result<()> {
+    let named = !spec.name.is_empty()
+        && spec
+            .name
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_');
+    if !named {
+        return Err(zone_error(
+            source,
+            z,
+            "name",
+            format!(
+                "`{}` is not a zone name (letters, digits, `-` and `_`)",
+                spec.name
+            ),
+        ));
+    }
+    if zones.iter().any(|o| o.name == spec.name) {
+        return Err(zone_error(
+            source,
+            z,
+            "name",
+            format!("zone `{}` is defined twice", spec.name),
+        ));
+    }
+    Ok(())
+}
+
+/// Checks that zone `z` names only existing `bodies` and that its box has each lower bound
+/// below the upper one; returns the box's corners (unbounded where not given).
+fn check_bodies_and_box(
+    spec: &ZoneSpec,
+    z: usize,
+    bodies: &std::collections::HashSet<&str>,
+    source: &str,
+) -> Result<([f64; 3], [f64; 3])> {
+    for (p, pair) in spec.bodies.iter().enumerate() {
+        for b in pair {
+            if !bodies.contains(b.as_str()) {
+                return Err(zone_error(
+                    source,
+                    z,
+                    &format!("bodies[{p}]"),
+                    format!("no body is named `{b}`"),
+                ));
+            }
+        }
+    }
+    let (lo, hi) = (
+        spec.min.unwrap_or([f64::NEG_INFINITY; 3]),
+        spec.max.unwrap_or([f64::INFINITY; 3]),
+    );
+    if let Some(q) = (0..3).find(|&q| lo[q].partial_cmp(&hi[q]).is_none_or(|o| o.is_gt())) {
+        return Err(zone_error(
+            source,
+            z,
+            "min",
+            format!("min[{q}] = {} is not below max[{q}] = {}", lo[q], hi[q]),
+        ));
+    }
+    Ok((lo, hi))
+}
+
+/// The interfaces zone `spec` holds: the contacts between the body pairs it lists, and the
+/// boundary interfaces with a non-zero prescribed velocity amplitude of the bodies it names,
+/// each with its centre in the box `(lo, hi)` and on one of the surfaces it names (`surface_of`).
+fn select(
+    spec: &ZoneSpec,
+    (lo, hi): ([f64; 3], [f64; 3]),
+    subs: &[Substructure],
+    interfaces: &[Interface],
+    surface_of: &[Option<String>],
+) -> Zone {
+    let inside = |iface: &Interface| {
+        let c = centre(iface, subs);
+        (0..3).all(|q| lo[q] <= c[q] && c[q] <= hi[q])
+    };
+    let pair_listed = |a: &str, b: &str| {
+        spec.bodies.is_empty()
+            || spec
+                .bodies
+                .iter()
+                .any(|[x, y]| (x == a && y == b) || (x == b && y == a))
+    };
+    let body_named =
+        |a: &str| spec.bodies.is_empty() || spec.bodies.iter().any(|[x, y]| x == a || y == a);
+    let on_surface = |i: usize| {
+        spec.surfaces.is_empty()
+            || surface_of
+                .get(i)
+                .and_then(Option::as_deref)
+                .is_some_and(|s| spec.surfaces.iter().any(|n| n == s))
+    };
+    let mut zone = Zone {
+        name: spec.name.clone(),
+        contacts: Vec::new(),
+        boundaries: Vec::new(),
+    };
+    for (i, iface) in interfaces.iter().enumerate() {
+        let body = |s: usize| subs[iface.sides[s].sub].body.as_str();
+        match &iface.law {
+            Law::Contact(_) if pair_listed(body(0), body(1)) && inside(iface) && on_surface(i) => {
+                zone.contacts.push(i);
+            }
+            Law::Boundary(dofs)
+                if dofs
+                    .iter()
+                    .any(|d| matches!(d.law, DofLaw::Velocity(f) if f.amplitude != 0.0))
+                    && body_named(body(0))
+                    && inside(iface)
+                    && on_surface(i) =>
+            {
+                zone.boundaries.push(i);
+            }
+            _ => {}
+        }
+    }
+    zone
 }

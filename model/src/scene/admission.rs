@@ -12,8 +12,8 @@
 use std::collections::HashMap;
 
 use crate::error::{LopinError, Result};
-use crate::scene::build::face_of;
 use crate::scene::face_index::FaceIndex;
+use crate::scene::spec::face_of;
 use crate::scene::spec::{InterfaceKind, SceneSpec};
 
 /// Bytes per double.
@@ -373,15 +373,70 @@ pub fn footprint_with_meshes(
     shape: SolveShape,
     meshes: &[MeshSize],
 ) -> Result<Footprint> {
-    let overflow = |field: &str| {
-        LopinError::scene(
-            source,
-            field,
-            "the model this asks for is too large to count (its size overflows 64-bit \
-             arithmetic)",
-        )
+    let overflow = |field: &str| too_large(source, field);
+    let (groups, trace) = scene_pieces(spec, source, meshes)?;
+    let fit = |x: u128, field: &str| usize::try_from(x).map_err(|_| overflow(field));
+    let field = if spec.granular.is_some() {
+        "granular"
+    } else if spec.granular_poly.is_some() {
+        "granular_poly"
+    } else {
+        "body"
     };
-    let (groups, trace) = match (&spec.granular, &spec.granular_poly) {
+    let totals = group_totals(&groups, shape, source, field)?;
+    let n1 = spec.time.steps as u128 + 1;
+    // s, s_new (per substructure trace) and ŝ (per interface side): F and W each
+    let interface = n1.saturating_mul(trace).saturating_mul(2 * F64 * 3);
+    let whole = shape.window.is_none_or(|w| w >= spec.time.steps);
+    let cache = if whole && shape.skip_unchanged && !shape.two_scale {
+        n1.saturating_mul(trace).saturating_mul(4 * F64)
+    } else {
+        0
+    };
+    // byte counts beyond 16 EiB are shown as 16 EiB: the verdict is the same
+    let to_u64 = |x: u128| u64::try_from(x).unwrap_or(u64::MAX);
+    Ok(Footprint {
+        substructures: fit(totals.substructures, field)?,
+        elements: fit(totals.elements, field)?,
+        nodes: fit(totals.nodes, field)?,
+        dofs: fit(
+            totals.nodes.checked_mul(3).ok_or_else(|| overflow(field))?,
+            field,
+        )?,
+        trace_entries: fit(trace, field)?,
+        steps: spec.time.steps,
+        factorizations: fit(totals.classes, field)?,
+        interface_bytes: to_u64(interface),
+        cache_bytes: to_u64(cache),
+        operator_bytes: to_u64(totals.operator),
+        factor_bytes: to_u64(totals.factor),
+        macro_bytes: to_u64(totals.macro_),
+        process_bytes: PROCESS_BYTES,
+        copies: 1,
+    })
+}
+
+/// The error for a count of `field` in `source` that overflows.
+fn too_large(source: &str, field: &str) -> LopinError {
+    LopinError::scene(
+        source,
+        field,
+        "the model this asks for is too large to count (its size overflows 64-bit \
+         arithmetic)",
+    )
+}
+
+/// The groups of substructures `spec` describes and their trace entries: those of its
+/// `[granular]` table, else of its `[granular_poly]` sample, else of its listed bodies followed
+/// by its mesh bodies (`meshes`, or the sizes their files announce when it is empty). An error
+/// naming the table when a count overflows.
+fn scene_pieces(
+    spec: &SceneSpec,
+    source: &str,
+    meshes: &[MeshSize],
+) -> Result<(Vec<PieceGroup>, u128)> {
+    let overflow = |field: &str| too_large(source, field);
+    Ok(match (&spec.granular, &spec.granular_poly) {
         (Some(g), _) => granular_pieces(g).ok_or_else(|| overflow("granular"))?,
         (None, Some(g)) => polyhedral_pieces(g).ok_or_else(|| overflow("granular_poly"))?,
         (None, None) => {
@@ -397,68 +452,62 @@ pub fn footprint_with_meshes(
             groups.extend(more);
             (groups, trace.saturating_add(more_trace))
         }
+    })
+}
+
+/// The sizes of all groups of substructures together.
+struct GroupTotals {
+    substructures: u128,
+    elements: u128,
+    nodes: u128,
+    operator: u128,
+    factor: u128,
+    macro_: u128,
+    classes: u128,
+}
+
+/// The sizes of `groups` summed in order: counts checked (an overflow is an error naming
+/// `field`), byte counts saturating, homogenized operators counted only for a two-scale
+/// `shape`.
+fn group_totals(
+    groups: &[PieceGroup],
+    shape: SolveShape,
+    source: &str,
+    field: &str,
+) -> Result<GroupTotals> {
+    let overflow = |field: &str| too_large(source, field);
+    let mut t = GroupTotals {
+        substructures: 0,
+        elements: 0,
+        nodes: 0,
+        operator: 0,
+        factor: 0,
+        macro_: 0,
+        classes: 0,
     };
-    let fit = |x: u128, field: &str| usize::try_from(x).map_err(|_| overflow(field));
-    let field = if spec.granular.is_some() {
-        "granular"
-    } else if spec.granular_poly.is_some() {
-        "granular_poly"
-    } else {
-        "body"
-    };
-    let mut substructures = 0u128;
-    let mut elements = 0u128;
-    let mut nodes = 0u128;
-    let mut operator = 0u128;
-    let mut factor = 0u128;
-    let mut macro_ = 0u128;
-    let mut classes = 0u128;
-    for g in &groups {
+    for g in groups {
         let sizes = group_sizes(g).ok_or_else(|| overflow(field))?;
-        substructures = substructures
+        t.substructures = t
+            .substructures
             .checked_add(g.count)
             .ok_or_else(|| overflow(field))?;
-        elements = elements
+        t.elements = t
+            .elements
             .checked_add(sizes.elements)
             .ok_or_else(|| overflow(field))?;
-        nodes = nodes
+        t.nodes = t
+            .nodes
             .checked_add(sizes.nodes)
             .ok_or_else(|| overflow(field))?;
         // byte counts saturate: beyond 2¹²⁸ the verdict is the same
-        operator = operator.saturating_add(sizes.operator_bytes);
-        factor = factor.saturating_add(sizes.factor_bytes);
-        classes = classes.saturating_add(g.classes);
+        t.operator = t.operator.saturating_add(sizes.operator_bytes);
+        t.factor = t.factor.saturating_add(sizes.factor_bytes);
+        t.classes = t.classes.saturating_add(g.classes);
         if shape.two_scale {
-            macro_ = macro_.saturating_add(sizes.macro_bytes);
+            t.macro_ = t.macro_.saturating_add(sizes.macro_bytes);
         }
     }
-    let n1 = spec.time.steps as u128 + 1;
-    // s, s_new (per substructure trace) and ŝ (per interface side): F and W each
-    let interface = n1.saturating_mul(trace).saturating_mul(2 * F64 * 3);
-    let whole = shape.window.is_none_or(|w| w >= spec.time.steps);
-    let cache = if whole && shape.skip_unchanged && !shape.two_scale {
-        n1.saturating_mul(trace).saturating_mul(4 * F64)
-    } else {
-        0
-    };
-    // byte counts beyond 16 EiB are shown as 16 EiB: the verdict is the same
-    let to_u64 = |x: u128| u64::try_from(x).unwrap_or(u64::MAX);
-    Ok(Footprint {
-        substructures: fit(substructures, field)?,
-        elements: fit(elements, field)?,
-        nodes: fit(nodes, field)?,
-        dofs: fit(nodes.checked_mul(3).ok_or_else(|| overflow(field))?, field)?,
-        trace_entries: fit(trace, field)?,
-        steps: spec.time.steps,
-        factorizations: fit(classes, field)?,
-        interface_bytes: to_u64(interface),
-        cache_bytes: to_u64(cache),
-        operator_bytes: to_u64(operator),
-        factor_bytes: to_u64(factor),
-        macro_bytes: to_u64(macro_),
-        process_bytes: PROCESS_BYTES,
-        copies: 1,
-    })
+    Ok(t)
 }
 
 /// What one group of identical substructures holds; None when a count overflows.
@@ -506,7 +555,7 @@ fn group_sizes(g: &PieceGroup) -> Option<GroupSizes> {
 /// The substructures of a `[granular]` table without expanding it: every cell one substructure
 /// of m³ hexahedra; trace entries of every internal face (both sides) and of the top (one
 /// velocity component) and bottom (clamped) faces. None on overflow.
-fn granular_pieces(g: &crate::scene::granular::GranularSpec) -> Option<(Vec<PieceGroup>, u128)> {
+fn granular_pieces(g: &crate::scene::tables::GranularSpec) -> Option<(Vec<PieceGroup>, u128)> {
     let n = g.grid.map(|x| x as u128);
     let m = g.cell_elements as u128;
     let cells = n[0].checked_mul(n[1])?.checked_mul(n[2])?;
@@ -560,7 +609,7 @@ const TET_NODES_PER_H3: f64 = 1.23;
 /// cube at `mesh_size` has ([`TET_NODES_PER_H3`]) shared out equally, every face an interface
 /// side. None on overflow (or a size that is not finite).
 fn polyhedral_pieces(
-    g: &crate::scene::granular_poly::GranularPolySpec,
+    g: &crate::scene::tables::GranularPolySpec,
 ) -> Option<(Vec<PieceGroup>, u128)> {
     let pieces = (g.matrix_substructures as u128).checked_add(g.grains as u128)?;
     let nodes = TET_NODES_PER_H3 * (g.side / g.mesh_size).powi(3);
@@ -639,73 +688,23 @@ type FaceKey = (usize, bool);
 fn body_pieces(spec: &SceneSpec) -> Option<(Vec<PieceGroup>, u128)> {
     let mut groups = Vec::with_capacity(spec.bodies.len());
     let mut trace = 0u128;
-    let index: HashMap<&str, usize> = spec
-        .bodies
-        .iter()
-        .enumerate()
-        .map(|(i, b)| (b.name.as_str(), i))
-        .collect();
-    let mut rules: HashMap<(usize, usize), (InterfaceKind, f64)> = HashMap::new();
-    for it in &spec.interfaces {
-        if let (Some(&a), Some(&b)) = (
-            index.get(it.bodies[0].as_str()),
-            index.get(it.bodies[1].as_str()),
-        ) {
-            rules.insert((a.min(b), a.max(b)), (it.kind, it.search.unwrap_or(0.0)));
-        }
-    }
+    let rules = interface_rules(spec);
     let faces = FaceIndex::new(&spec.bodies);
     let mut shared = HashMap::new();
     let search = rules.values().fold(0.0f64, |m, r| m.max(r.1));
-    // prescribed components per body face
-    let face_key = |f: &str| face_of(f).map(|(a, s)| (a, s > 0.0));
-    let mut prescribed: HashMap<(&str, Option<FaceKey>), u128> = HashMap::new();
-    for bc in &spec.boundaries {
-        let components = if bc.clamped {
-            3
-        } else {
-            bc.components().iter().filter(|(_, c)| c.is_some()).count() as u128
-        };
-        *prescribed
-            .entry((bc.body.as_str(), face_key(&bc.face)))
-            .or_default() += components;
-    }
+    let prescribed = prescribed_components(spec);
+    let sides = BodySides {
+        spec,
+        rules: &rules,
+        faces: &faces,
+        search,
+        prescribed: &prescribed,
+    };
     for (i, b) in spec.bodies.iter().enumerate() {
         let split = b.split.map(|x| x.max(1) as u128);
         let div: [u128; 3] = std::array::from_fn(|a| b.divisions[a] as u128 / split[a]);
         let count = split[0].checked_mul(split[1])?.checked_mul(split[2])?;
-        let face_nodes = |a: usize| (div[(a + 1) % 3] + 1).checked_mul(div[(a + 2) % 3] + 1);
-        for a in 0..3 {
-            let cross = split[(a + 1) % 3].checked_mul(split[(a + 2) % 3])?;
-            let fnodes = face_nodes(a)?;
-            // cuts inside the body: two sides of three components
-            trace = trace.checked_add(
-                split[a]
-                    .saturating_sub(1)
-                    .checked_mul(cross)?
-                    .checked_mul(6)?
-                    .checked_mul(fnodes)?,
-            )?;
-            // the body's own faces on this axis
-            let body_face_nodes = cross.checked_mul(fnodes)?;
-            for sign in [-1.0, 1.0] {
-                let name = match (a, sign > 0.0) {
-                    (0, false) => "x-",
-                    (0, true) => "x+",
-                    (1, false) => "y-",
-                    (1, true) => "y+",
-                    (2, false) => "z-",
-                    _ => "z+",
-                };
-                let components = prescribed
-                    .get(&(b.name.as_str(), face_key(name)))
-                    .copied()
-                    .unwrap_or(0);
-                let touched = touched_fraction(spec, &rules, &faces, search, i, a, sign);
-                let sides = components as f64 + 3.0 * touched;
-                trace = trace.checked_add((body_face_nodes as f64 * sides).ceil() as u128)?;
-            }
-        }
+        trace = sides.add_body_trace(trace, i, split, div)?;
         // bodies of one mesh (divisions and extents) and material share their stiffness and,
         // up to the 27 positions a piece can take among its neighbours, their factorizations
         let key = (
@@ -729,6 +728,118 @@ fn body_pieces(spec: &SceneSpec) -> Option<(Vec<PieceGroup>, u128)> {
         });
     }
     Some((groups, trace))
+}
+
+/// The kind and contact search distance (0 when none) of each declared interface between two
+/// listed bodies, keyed by the bodies' indices (smaller first); a later declaration of the same
+/// pair replaces an earlier one.
+fn interface_rules(spec: &SceneSpec) -> HashMap<(usize, usize), (InterfaceKind, f64)> {
+    let index: HashMap<&str, usize> = spec
+        .bodies
+        .iter()
+        .enumerate()
+        .map(|(i, b)| (b.name.as_str(), i))
+        .collect();
+    let mut rules: HashMap<(usize, usize), (InterfaceKind, f64)> = HashMap::new();
+    for it in &spec.interfaces {
+        if let (Some(&a), Some(&b)) = (
+            index.get(it.bodies[0].as_str()),
+            index.get(it.bodies[1].as_str()),
+        ) {
+            rules.insert((a.min(b), a.max(b)), (it.kind, it.search.unwrap_or(0.0)));
+        }
+    }
+    rules
+}
+
+/// The key of a face name in [`prescribed_components`]: its axis and whether it is the upper
+/// face (None for a name that is not a box face).
+fn face_key(f: &str) -> Option<FaceKey> {
+    face_of(f).map(|(a, s)| (a, s > 0.0))
+}
+
+/// The displacement components the boundary conditions prescribe on each body face (3 for a
+/// clamped face), summed over the conditions naming the same body and face.
+fn prescribed_components(spec: &SceneSpec) -> HashMap<(&str, Option<FaceKey>), u128> {
+    let mut prescribed: HashMap<(&str, Option<FaceKey>), u128> = HashMap::new();
+    for bc in &spec.boundaries {
+        let components = if bc.clamped {
+            3
+        } else {
+            bc.components().iter().filter(|(_, c)| c.is_some()).count() as u128
+        };
+        *prescribed
+            .entry((bc.body.as_str(), face_key(&bc.face)))
+            .or_default() += components;
+    }
+    prescribed
+}
+
+/// The name of the box face on axis `a` (the upper one when `upper`).
+fn face_name(a: usize, upper: bool) -> &'static str {
+    match (a, upper) {
+        (0, false) => "x-",
+        (0, true) => "x+",
+        (1, false) => "y-",
+        (1, true) => "y+",
+        (2, false) => "z-",
+        _ => "z+",
+    }
+}
+
+/// What the trace entries of the listed bodies' faces depend on: the interface rules between
+/// bodies, the face index, the largest contact search distance and the prescribed components
+/// per body face.
+struct BodySides<'a> {
+    spec: &'a SceneSpec,
+    rules: &'a HashMap<(usize, usize), (InterfaceKind, f64)>,
+    faces: &'a FaceIndex,
+    search: f64,
+    prescribed: &'a HashMap<(&'a str, Option<FaceKey>), u128>,
+}
+
+impl BodySides<'_> {
+    /// `trace` plus the trace entries of body `i` cut into `split` boxes of `div` hexahedra:
+    /// per axis, those of its inner cuts (two sides of three components), then those of its
+    /// lower and upper faces (one per prescribed component, three per touched share). None on
+    /// overflow.
+    fn add_body_trace(
+        &self,
+        mut trace: u128,
+        i: usize,
+        split: [u128; 3],
+        div: [u128; 3],
+    ) -> Option<u128> {
+        let b = &self.spec.bodies[i];
+        let face_nodes = |a: usize| (div[(a + 1) % 3] + 1).checked_mul(div[(a + 2) % 3] + 1);
+        for a in 0..3 {
+            let cross = split[(a + 1) % 3].checked_mul(split[(a + 2) % 3])?;
+            let fnodes = face_nodes(a)?;
+            // cuts inside the body: two sides of three components
+            trace = trace.checked_add(
+                split[a]
+                    .saturating_sub(1)
+                    .checked_mul(cross)?
+                    .checked_mul(6)?
+                    .checked_mul(fnodes)?,
+            )?;
+            // the body's own faces on this axis
+            let body_face_nodes = cross.checked_mul(fnodes)?;
+            for sign in [-1.0, 1.0] {
+                let name = face_name(a, sign > 0.0);
+                let components = self
+                    .prescribed
+                    .get(&(b.name.as_str(), face_key(name)))
+                    .copied()
+                    .unwrap_or(0);
+                let touched =
+                    touched_fraction(self.spec, self.rules, self.faces, self.search, i, a, sign);
+                let sides = components as f64 + 3.0 * touched;
+                trace = trace.checked_add((body_face_nodes as f64 * sides).ceil() as u128)?;
+            }
+        }
+        Some(trace)
+    }
 }
 
 /// The fraction of body `i`'s face (axis `a`, outward `sign`) that other bodies touch (or face

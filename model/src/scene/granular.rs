@@ -12,84 +12,17 @@
 //! −V₀ along z with a (1 − cos) ramp over `ramp_steps` steps, the z− faces of the bottom layer
 //! are clamped, the lateral faces are free.
 
-use serde::{Deserialize, Serialize};
-
 use crate::error::{LopinError, Result};
 use crate::scene::cell_set::CellSet;
 use crate::scene::spec::{
     BodySpec, BoundarySpec, ComponentSpec, InterfaceKind, InterfaceSpec, SceneSpec,
 };
+pub use crate::scene::tables::GranularSpec;
+use crate::scene::tables::{
+    default_friction, default_grain_cells, default_ramp_steps, default_seed, default_split,
+    default_velocity,
+};
 use crate::splitmix::SplitMix64;
-
-/// The `[granular]` table: the generator's parameters.
-#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct GranularSpec {
-    /// Side L of the cube (m); its lower corner is the origin.
-    pub side: f64,
-    /// Cells along x, y, z.
-    #[serde(deserialize_with = "crate::scene::exact::exactly")]
-    pub grid: [usize; 3],
-    /// Hexahedra m along each edge of a cell (a cell has m × m × m).
-    pub cell_elements: usize,
-    /// Number of grains.
-    pub grains: usize,
-    /// Smallest and largest number of cells of a grain (each grain's size is drawn in between).
-    #[serde(
-        default = "default_grain_cells",
-        deserialize_with = "crate::scene::exact::exactly"
-    )]
-    pub grain_cells: [usize; 2],
-    /// Seed of the grain placement (the same seed always gives the same layout).
-    #[serde(default = "default_seed")]
-    pub seed: u64,
-    /// Material of the matrix (a `[[material]]` name).
-    pub matrix: String,
-    /// Material of the grains (a `[[material]]` name).
-    pub grain: String,
-    /// Friction coefficient f of the grain/matrix contacts.
-    #[serde(default = "default_friction")]
-    pub friction: f64,
-    /// Velocity V₀ (m/s) imposed along −z on the top face.
-    #[serde(default = "default_velocity")]
-    pub velocity: f64,
-    /// Duration of the (1 − cos) ramp of V₀, in time steps.
-    #[serde(default = "default_ramp_steps")]
-    pub ramp_steps: usize,
-    /// The factor of `--split n` applied to this scene ([`SceneSpec::split`]); not part of the
-    /// file. Every cell is one substructure, so validation rejects any value but 1.
-    #[serde(skip, default = "default_split")]
-    pub requested_split: usize,
-}
-
-fn default_grain_cells() -> [usize; 2] {
-    [1, 3]
-}
-
-/// Default of the granular tables (SCENES.md `granular`).
-pub(crate) fn default_seed() -> u64 {
-    1
-}
-
-/// Default of the granular tables (SCENES.md `granular`).
-pub(crate) fn default_friction() -> f64 {
-    0.3
-}
-
-/// Default of the granular tables (SCENES.md `granular`).
-pub(crate) fn default_velocity() -> f64 {
-    10.0
-}
-
-/// Default of the granular tables (SCENES.md `granular`).
-pub(crate) fn default_ramp_steps() -> usize {
-    10
-}
-
-fn default_split() -> usize {
-    1
-}
 
 impl GranularSpec {
     /// The parameters of SCENES.md with the defaults of the optional fields (seed 1, grains of
@@ -184,6 +117,15 @@ pub fn validate(spec: &SceneSpec, source: &str) -> Result<()> {
     let Some(g) = &spec.granular else {
         return Ok(());
     };
+    check_no_listed_entries(spec, source)?;
+    check_grid(g, source)?;
+    check_grains(g, source)?;
+    check_materials_and_load(spec, g, source)
+}
+
+/// Checks that a scene with a `[granular]` table lists no bodies, interfaces or boundaries of
+/// its own (the table generates them).
+fn check_no_listed_entries(spec: &SceneSpec, source: &str) -> Result<()> {
     let err = |field: &str, reason: String| Err(LopinError::scene(source, field, reason));
     for (field, len) in [
         ("body", spec.bodies.len()),
@@ -201,6 +143,13 @@ pub fn validate(spec: &SceneSpec, source: &str) -> Result<()> {
             );
         }
     }
+    Ok(())
+}
+
+/// Checks the cube and its grid: a positive finite side, at least one cell along each axis, a
+/// cell count that fits a `usize`, and at least one hexahedron per cell edge.
+fn check_grid(g: &GranularSpec, source: &str) -> Result<()> {
+    let err = |field: &str, reason: String| Err(LopinError::scene(source, field, reason));
     if !(g.side.is_finite() && g.side > 0.0) {
         return err(
             "granular.side",
@@ -228,6 +177,14 @@ pub fn validate(spec: &SceneSpec, source: &str) -> Result<()> {
             "must be at least 1 hexahedron per cell edge".into(),
         );
     }
+    Ok(())
+}
+
+/// Checks the grains: a cell range from at least 1 cell, its minimum not above its maximum, its
+/// maximum within the grid, the grains at their minimum size fitting in the grid, and a seed
+/// TOML can hold (a signed 64-bit integer).
+fn check_grains(g: &GranularSpec, source: &str) -> Result<()> {
+    let err = |field: &str, reason: String| Err(LopinError::scene(source, field, reason));
     let [lo, hi] = g.grain_cells;
     if lo == 0 {
         return err(
@@ -270,6 +227,14 @@ pub fn validate(spec: &SceneSpec, source: &str) -> Result<()> {
             ),
         );
     }
+    Ok(())
+}
+
+/// Checks the materials and the load: the matrix and grain materials exist in `spec`, the
+/// friction coefficient is valid, the velocity is finite, the ramp fits the run, and no
+/// `--split` other than 1 was requested.
+fn check_materials_and_load(spec: &SceneSpec, g: &GranularSpec, source: &str) -> Result<()> {
+    let err = |field: &str, reason: String| Err(LopinError::scene(source, field, reason));
     for (field, name) in [("granular.matrix", &g.matrix), ("granular.grain", &g.grain)] {
         if !spec.materials.iter().any(|m| &m.name == name) {
             return err(field, format!("no material named `{name}`"));
@@ -705,7 +670,7 @@ mod tests {
         for (what, edit, field, reason) in cases {
             let mut spec = small();
             edit(&mut spec);
-            let err = crate::scene::build::validate(&spec, "bad.toml").expect_err(what);
+            let err = crate::scene::check(&spec, "bad.toml").expect_err(what);
             let msg = err.to_string();
             assert!(matches!(err, LopinError::Scene { .. }), "{what}: {msg}");
             assert!(msg.contains("bad.toml"), "{what}: no source in `{msg}`");

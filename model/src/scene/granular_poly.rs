@@ -7,54 +7,12 @@
 //! fragmented surfaces are conforming), and the loading of SCENES.md `granular`: the top face
 //! pushed along −z at V₀ with a (1 − cos) ramp, the bottom face clamped, the lateral faces free.
 
-use serde::{Deserialize, Serialize};
-
 use crate::error::{LopinError, Result};
 use crate::mesh::grain_geometry::{place_grains, GrainLayout, Polyhedron};
 use crate::scene::spec::{
     BoundarySpec, ComponentSpec, InterfaceKind, InterfaceSpec, MeshBodySpec, SceneSpec,
 };
-
-/// The `[granular_poly]` table: the generator's parameters.
-#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct GranularPolySpec {
-    /// Side L of the cube (m); its lower corner is the origin.
-    pub side: f64,
-    /// Number of grains.
-    pub grains: usize,
-    /// Smallest and largest circumscribed radius of a grain (m).
-    #[serde(deserialize_with = "crate::scene::exact::exactly")]
-    pub radius: [f64; 2],
-    /// Points drawn on a grain's sphere, whose convex hull is the grain (at least 6).
-    #[serde(default = "default_vertices")]
-    pub vertices: usize,
-    /// Smallest distance between two grains' circumscribed spheres, and from a sphere to the
-    /// cube's faces (m).
-    pub gap: f64,
-    /// Seed of the grain shapes and placement (the same seed always gives the same sample).
-    #[serde(default = "crate::scene::granular::default_seed")]
-    pub seed: u64,
-    /// Target tetrahedron size (m).
-    pub mesh_size: f64,
-    /// Substructures the matrix is cut into by the graph partitioner (each grain is one).
-    #[serde(default = "default_one")]
-    pub matrix_substructures: usize,
-    /// Material of the matrix (a `[[material]]` name).
-    pub matrix: String,
-    /// Material of the grains (a `[[material]]` name).
-    pub grain: String,
-    /// Friction coefficient f of the grain/matrix contacts.
-    #[serde(default = "crate::scene::granular::default_friction")]
-    pub friction: f64,
-    /// Velocity V₀ (m/s) imposed along −z on the top face.
-    #[serde(default = "crate::scene::granular::default_velocity")]
-    pub velocity: f64,
-    /// Duration of the (1 − cos) ramp of V₀, in time steps.
-    #[serde(default = "crate::scene::granular::default_ramp_steps")]
-    pub ramp_steps: usize,
-}
+pub use crate::scene::tables::GranularPolySpec;
 
 /// Most hull points per grain (the hull is found by brute force, O(n⁴), and each grain may take
 /// 64 shape attempts per placement try).
@@ -66,14 +24,6 @@ pub const MAX_GRAINS: usize = 500;
 
 /// Physical range of the cube side (m): a laboratory specimen to a large structure.
 const SIDE_RANGE: (f64, f64) = (1e-4, 1e2);
-
-fn default_vertices() -> usize {
-    12
-}
-
-fn default_one() -> usize {
-    1
-}
 
 impl GranularPolySpec {
     /// The grain layout the table describes.
@@ -107,13 +57,33 @@ pub fn placed_grains(spec: &SceneSpec, source: &str) -> Result<Vec<Polyhedron>> 
     let Some(g) = &spec.granular_poly else {
         return Ok(Vec::new());
     };
-    let err = |field: &str, reason: String| {
-        Err(LopinError::scene(
-            source,
-            format!("granular_poly.{field}"),
-            reason,
-        ))
-    };
+    check_scene_entries(spec, g, source)?;
+    check_sizes(g, source)?;
+    check_resolution(g, source)?;
+    check_load_and_grains(spec, g, source)?;
+    check_packing(g, source)?;
+    // counted (from the mesh size) and admitted before any grain is drawn or meshed
+    crate::scene::admission::admit(
+        spec,
+        source,
+        crate::scene::admission::SolveShape::smallest(),
+    )?;
+    match place_grains(&g.layout()) {
+        Ok(grains) => Ok(grains),
+        Err(reason) => Err(table_error(source, "grains", reason)),
+    }
+}
+
+/// The error for field `field` of the `[granular_poly]` table of `source`.
+fn table_error(source: &str, field: &str, reason: String) -> LopinError {
+    LopinError::scene(source, format!("granular_poly.{field}"), reason)
+}
+
+/// Checks what the table asks of the rest of the scene: no listed bodies, mesh bodies,
+/// interfaces or boundaries, no `[granular]` table beside it, and its matrix and grain
+/// materials defined.
+fn check_scene_entries(spec: &SceneSpec, g: &GranularPolySpec, source: &str) -> Result<()> {
+    let err = |field: &str, reason: String| Err(table_error(source, field, reason));
     for (len, field) in [
         (spec.bodies.len(), "body"),
         (spec.mesh_bodies.len(), "mesh_body"),
@@ -143,6 +113,14 @@ pub fn placed_grains(spec: &SceneSpec, source: &str) -> Result<Vec<Polyhedron>> 
             return err(field, format!("no material named `{name}`"));
         }
     }
+    Ok(())
+}
+
+/// Checks the sizes of the sample: the cube side within [`SIDE_RANGE`], the smallest grain
+/// radius and the gap not below their fractions of the side, at most [`MAX_GRAINS`] grains,
+/// and a positive mesh size smaller than the side.
+fn check_sizes(g: &GranularPolySpec, source: &str) -> Result<()> {
+    let err = |field: &str, reason: String| Err(table_error(source, field, reason));
     let positive = |x: f64| x.is_finite() && x > 0.0;
     if !(g.side.is_finite() && (SIDE_RANGE.0..=SIDE_RANGE.1).contains(&g.side)) {
         return err(
@@ -192,6 +170,13 @@ pub fn placed_grains(spec: &SceneSpec, source: &str) -> Result<Vec<Polyhedron>> 
             ),
         );
     }
+    Ok(())
+}
+
+/// Checks that the mesh size resolves the sample: the smallest grain spans at least half an
+/// element and the gap between grains at least a quarter of one.
+fn check_resolution(g: &GranularPolySpec, source: &str) -> Result<()> {
+    let err = |field: &str, reason: String| Err(table_error(source, field, reason));
     // a grain narrower than one element, or a matrix sliver thinner than a quarter of one, is not
     // resolved at `mesh_size`: gmsh would refine around it far beyond the mesh admitted here
     if g.radius[0] < 0.5 * g.mesh_size {
@@ -214,6 +199,14 @@ pub fn placed_grains(spec: &SceneSpec, source: &str) -> Result<Vec<Polyhedron>> 
             ),
         );
     }
+    Ok(())
+}
+
+/// Checks the load and the grain shapes: a valid friction coefficient, a ramp that fits the
+/// run, a finite velocity, at least one matrix substructure and at most [`MAX_VERTICES`] hull
+/// points per grain.
+fn check_load_and_grains(spec: &SceneSpec, g: &GranularPolySpec, source: &str) -> Result<()> {
+    let err = |field: &str, reason: String| Err(table_error(source, field, reason));
     if let Err(reason) = crate::scene::validate::check_friction(g.friction) {
         return err("friction", reason);
     }
@@ -235,40 +228,45 @@ pub fn placed_grains(spec: &SceneSpec, source: &str) -> Result<Vec<Polyhedron>> 
             ),
         );
     }
+    Ok(())
+}
+
+/// Checks that the grains can be packed at all: the spheres of the smallest grains, each with
+/// half the gap around it, fill no more than random close packing (64 %) of the cube.
+fn check_packing(g: &GranularPolySpec, source: &str) -> Result<()> {
     // the spheres of the smallest grains, each with half the gap around it, cannot fill more
     // than random close packing (64 %) of the cube: refused before any try
     let ball = 4.0 / 3.0 * std::f64::consts::PI * (g.radius[0] + 0.5 * g.gap).powi(3);
     let most = (0.64 * g.side.powi(3) / ball).floor();
     if ball.is_finite() && ball > 0.0 && g.grains as f64 > most {
-        return err(
+        return Err(table_error(
+            source,
             "grains",
             format!(
                 "{} grains of radius at least {} with gap {} cannot fit in a cube of side {} \
                  (at most about {most})",
                 g.grains, g.radius[0], g.gap, g.side
             ),
-        );
+        ));
     }
-    // counted (from the mesh size) and admitted before any grain is drawn or meshed
-    crate::scene::admission::admit(
-        spec,
-        source,
-        crate::scene::admission::SolveShape::smallest(),
-    )?;
-    match place_grains(&g.layout()) {
-        Ok(grains) => Ok(grains),
-        Err(reason) => err("grains", reason),
-    }
+    Ok(())
 }
 
 /// Expands the `[granular_poly]` table into the scene it describes: meshes the sample with gmsh
 /// (or takes it from the cache) and lists the mesh bodies, contacts and boundaries.
 pub fn expand(spec: &SceneSpec, source: &str) -> Result<SceneSpec> {
+    if spec.granular_poly.is_none() {
+        return Ok(spec.clone());
+    }
+    expand_placed(spec, source, &placed_grains(spec, source)?)
+}
+
+/// [`expand`] with the grains already placed ([`placed_grains`]).
+pub fn expand_placed(spec: &SceneSpec, source: &str, grains: &[Polyhedron]) -> Result<SceneSpec> {
     let Some(g) = &spec.granular_poly else {
         return Ok(spec.clone());
     };
-    let grains = placed_grains(spec, source)?;
-    let mesh = mesh_file(&g.script(&grains), &spec.name)
+    let mesh = mesh_file(&g.script(grains), &spec.name)
         .map_err(|reason| LopinError::scene(source, "granular_poly", reason))?;
     let body = |name: String, material: &str, substructures: usize| MeshBodySpec {
         name,

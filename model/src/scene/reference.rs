@@ -15,7 +15,7 @@ use std::fmt::Write;
 
 use serde_json::Value;
 
-use crate::scene::{build, from_toml, registry, to_toml};
+use crate::scene::{from_toml, registry, to_toml};
 
 /// What the page says of one key beyond the schema.
 #[derive(Debug, Clone, Copy)]
@@ -877,7 +877,9 @@ fn probe(p: &Probe, bases: &mut HashMap<Base, String>) -> Result<Option<String>,
         Err(e) => Some(e.to_string()),
         // the table alone: building a granular_poly sample meshes it with gmsh
         Ok(_) if p.base == GranularPoly => None,
-        Ok(spec) => build::build(&spec, &source).err().map(|e| e.to_string()),
+        Ok(spec) => crate::scene::problem_of(&spec, &source)
+            .err()
+            .map(|e| e.to_string()),
     };
     let outcome = match &folder {
         Some(dir) => {
@@ -931,8 +933,23 @@ fn set(doc: &mut toml::Table, path: &str, value: toml::Value) -> Result<(), Stri
 pub fn markdown() -> Result<String, String> {
     let keys = schema_keys();
     let rules: BTreeMap<&str, &Rule> = RULES.iter().map(|r| (r.key, r)).collect();
+    let mut problems = coverage_problems(&keys, &rules);
+    let messages = probe_messages(&mut problems)?;
+    if !problems.is_empty() {
+        return Err(problems.join("\n"));
+    }
+    let mut page = String::new();
+    page.push_str(HEADER);
+    write_key_tables(&mut page, &keys, &rules);
+    write_messages(&mut page, &messages);
+    Ok(page)
+}
+
+/// The keys of the schema without a rule in [`RULES`], then the rules that name no key of the
+/// schema, one problem each.
+fn coverage_problems(keys: &[SchemaKey], rules: &BTreeMap<&str, &Rule>) -> Vec<String> {
     let mut problems = Vec::new();
-    for k in &keys {
+    for k in keys {
         if !rules.contains_key(k.key.as_str()) {
             problems.push(format!(
                 "key `{}` has no rule in scene::reference::RULES",
@@ -945,6 +962,14 @@ pub fn markdown() -> Result<String, String> {
             problems.push(format!("rule `{}` names no key of the schema", r.key));
         }
     }
+    problems
+}
+
+/// Runs the probes of every rule in order: each outside probe with its message (pushing a
+/// problem when it is accepted, or when its message names neither the key nor its entry), and
+/// each inside probe (pushing a problem when it is refused). An error when a probe cannot be
+/// run.
+fn probe_messages(problems: &mut Vec<String>) -> Result<Vec<(&'static Probe, String)>, String> {
     // each outside probe with its message, in the rules' order
     let mut messages: Vec<(&Probe, String)> = Vec::new();
     let mut bases = HashMap::new();
@@ -978,13 +1003,14 @@ pub fn markdown() -> Result<String, String> {
             }
         }
     }
-    if !problems.is_empty() {
-        return Err(problems.join("\n"));
-    }
-    let mut page = String::new();
-    page.push_str(HEADER);
+    Ok(messages)
+}
+
+/// Writes one section per table of the schema (its heading, its introduction when it has one,
+/// and a table header), one row per key with the unit and range of its rule.
+fn write_key_tables(page: &mut String, keys: &[SchemaKey], rules: &BTreeMap<&str, &Rule>) {
     let mut table = "";
-    for k in &keys {
+    for k in keys {
         if k.table != table {
             table = &k.table;
             let _ = write!(page, "\n## `{table}`\n\n");
@@ -1010,6 +1036,11 @@ pub fn markdown() -> Result<String, String> {
             k.description.replace('|', "\\|"),
         );
     }
+}
+
+/// Writes the section that quotes, for each outside probe, the value it sets and the message
+/// Lopin answers.
+fn write_messages(page: &mut String, messages: &[(&Probe, String)]) {
     page.push_str("\n## The message outside the range\n\n");
     page.push_str(
         "Each line sets one key of a valid scene (`two-blocks`, with a `[[zone]]` for the zone \
@@ -1017,7 +1048,7 @@ pub fn markdown() -> Result<String, String> {
          answers; the `[[mesh_body]]` keys start from a steel unit cube read from a Gmsh file, \
          `unit-cube.msh`, beside a box body `plate`.\n\n",
     );
-    for (p, m) in &messages {
+    for (p, m) in messages {
         let _ = writeln!(
             page,
             "- `{}` = `{}`:\n  `{}`",
@@ -1026,7 +1057,6 @@ pub fn markdown() -> Result<String, String> {
             m.replace('`', "'")
         );
     }
-    Ok(page)
 }
 
 const HEADER: &str = "# Scene file reference\n\n\

@@ -6,7 +6,7 @@
 //! listed apart, in [`TEST_SCENES`], so that pickers and `lopin scenes` do not offer them.
 
 use crate::error::Result;
-use crate::scene::{from_toml, SceneSpec};
+use crate::scene::{reading, SceneSpec};
 
 /// Names of the built-in scenes, in display order.
 pub const SCENES: [&str; 9] = [
@@ -69,11 +69,11 @@ pub fn contains(name: &str) -> bool {
     source(name).is_some()
 }
 
-/// The built-in or test scene of that name, parsed and validated: None for an unknown name,
-/// an error (naming `scene NAME`) if its embedded file does not parse — the unit tests below
-/// parse every one.
+/// The built-in or test scene of that name, parsed (unchecked: the unit tests below check
+/// every one): None for an unknown name, an error (naming `scene NAME`) if its embedded file
+/// does not parse.
 pub fn parse(name: &str) -> Option<Result<SceneSpec>> {
-    source(name).map(|text| from_toml(text, &format!("scene {name}")))
+    source(name).map(|text| reading::parse(text, &format!("scene {name}")))
 }
 
 /// The built-in or test scene of that name (None for an unknown name; see [`parse`] for the
@@ -94,6 +94,7 @@ mod tests {
                 .unwrap_or_else(|e| panic!("{name}: {e}"));
             assert_eq!(spec.name, *name);
             assert_eq!(builtin(name).as_ref(), Some(&spec));
+            crate::scene::check(&spec, &format!("scene {name}")).unwrap_or_else(|e| panic!("{e}"));
         }
         assert!(LARGE.iter().all(|n| SCENES.contains(n)));
         assert!(TEST_SCENES.iter().all(|n| !SCENES.contains(n)));

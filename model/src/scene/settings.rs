@@ -1,5 +1,6 @@
-//! The iteration settings a scene file names besides numbers (its `[solver]` table,
-//! [`super::spec::SolverSpec`]): the stopping test and the start of a cold time window.
+//! The iteration settings a scene file or the command line names besides numbers (a
+//! [`super::spec::SolverSpec`] layer): the stopping test, the start of a cold time window and
+//! the on/off switches.
 //!
 //! The stopping test (METHOD §6): η on the fields themselves, or η̄ on their step averages,
 //! which the undamped rule's alternating mode (METHOD §10) does not enter.
@@ -51,12 +52,26 @@ impl StopTest {
         }
     }
 
+    /// Parses a command-line value ([`Self::parse`], the error as text).
+    pub fn from_arg(name: &str) -> std::result::Result<Self, String> {
+        Self::parse(name).map_err(|e| e.to_string())
+    }
+
     /// Name.
     pub fn name(&self) -> &'static str {
         match self {
             Self::Eta => "eta",
             Self::Smooth => "smooth",
         }
+    }
+}
+
+/// Parses an on/off switch of the command line (`--macro on`).
+pub fn switch_from_arg(value: &str) -> std::result::Result<bool, String> {
+    match value {
+        "on" => Ok(true),
+        "off" => Ok(false),
+        _ => Err(format!("expected `on` or `off`, got `{value}`")),
     }
 }
 
@@ -102,6 +117,11 @@ impl WindowStart {
                     format!("unknown window start `{name}` (zero, hold, linear, smooth, auto)"),
                 )
             })
+    }
+
+    /// Parses a command-line value ([`Self::parse`], the error as text).
+    pub fn from_arg(name: &str) -> std::result::Result<Self, String> {
+        Self::parse(name).map_err(|e| e.to_string())
     }
 
     /// Name.

@@ -7,8 +7,8 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{LopinError, Result};
 use crate::scene::exact::exactly;
-use crate::scene::granular::GranularSpec;
-use crate::scene::granular_poly::GranularPolySpec;
+use crate::scene::tables::GranularPolySpec;
+use crate::scene::tables::GranularSpec;
 use crate::time::time_function::{Ramp, TimeGrid};
 
 /// A whole scene.
@@ -69,49 +69,87 @@ fn default_split_axes() -> String {
     "xy".into()
 }
 
-/// Optional solver settings carried by a scene.
+/// One layer of solver settings, every field optional: the scene's `[solver]` table, or the
+/// command line's options (the same fields, `--tol`, `--rho-inf`, …), or the explorer's
+/// controls. Layers stack with [`SolverSpec::over`] (the command line over the scene) and
+/// resolve into [`crate::Settings`] over the defaults of METHOD §10.
 #[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
+#[cfg_attr(feature = "cli", derive(clap::Args))]
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SolverSpec {
-    /// Stopping tolerance on η.
+    /// Stopping tolerance on the error indicator η (default 1e-3).
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "cli", arg(long, allow_hyphen_values = true))]
     pub tol: Option<f64>,
-    /// Relaxation μ.
+    /// Relaxation μ in (0, 1] (default 0.8).
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "cli", arg(long, allow_hyphen_values = true))]
     pub mu: Option<f64>,
-    /// Search direction k (Pa·s/m).
+    /// Search direction k in Pa·s/m (default: mean of √(ρE) over the materials in use).
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "cli", arg(long, allow_hyphen_values = true))]
     pub k: Option<f64>,
-    /// Iteration limit.
+    /// Iteration limit, per time window (default 2000).
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "cli", arg(long, allow_negative_numbers = true))]
     pub max_iter: Option<usize>,
-    /// Time-window length in steps (absent: whole interval).
+    /// Time-window length in steps (absent: chosen for what the run is for, which the report
+    /// says).
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "cli", arg(skip))]
     pub window: Option<usize>,
-    /// Spectral radius at infinite frequency of the time scheme (1: the undamped trapezoidal
-    /// rule; smaller damps the highest frequencies, [`crate::time::time_scheme`]).
+    /// Spectral radius at infinite frequency of the time scheme in [0, 1]: 1 is the undamped
+    /// trapezoidal rule, smaller damps the highest frequencies (METHOD §2; default 1).
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "cli", arg(long = "rho-inf", allow_hyphen_values = true))]
     pub rho_inf: Option<f64>,
-    /// Shape of the search direction, `isotropic` (the scalar k) or `wave` (ρc_p normal, ρc_s
-    /// tangential; [`crate::interfaces::search_direction`]); absent: isotropic.
+    /// Shape of the search direction: `isotropic` (the scalar k on every dof) or `wave` (the
+    /// P-wave impedance ρc_p along the interface normal, the S-wave impedance ρc_s across it;
+    /// default isotropic).
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "cli", arg(long, value_parser = crate::interfaces::search_direction::Directions::parse))]
     pub directions: Option<crate::interfaces::search_direction::Directions>,
-    /// Which indicator ends a window: `eta` (METHOD §6) or `smooth` (η̄ on step-averaged
-    /// fields, `lopin_core::stages::indicator`); absent: eta.
+    /// Which indicator ends a window: `eta` (the fields themselves, METHOD §6) or `smooth` (η̄,
+    /// the same measure on step-averaged fields, blind to the undamped rule's alternating mode;
+    /// default eta).
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "cli", arg(long, value_parser = crate::scene::settings::StopTest::from_arg))]
     pub stop: Option<crate::scene::settings::StopTest>,
-    /// Where a cold time window's iteration starts: `zero`, `hold`, `linear`, `smooth` or
-    /// `auto` ([`crate::scene::settings`]); absent: auto.
+    /// Where a cold time window's iteration starts: `smooth` (extrapolate the mean change of the
+    /// last two converged steps), `linear` (the last step's change), `hold` (the last step held
+    /// constant), `zero`, or `auto` (smooth at a tolerance of 1e-3 and tighter, hold above;
+    /// default auto).
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "cli", arg(long = "window-start", value_parser = crate::scene::settings::WindowStart::from_arg))]
     pub window_start: Option<crate::scene::settings::WindowStart>,
-    /// Depth of the Anderson acceleration of the relaxation (absent or 0: plain relaxation,
-    /// `lopin_core::stages::acceleration`).
+    /// Depth of the Anderson acceleration of the relaxation (0: plain relaxation; default 0).
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "cli", arg(long, allow_negative_numbers = true))]
     pub anderson: Option<usize>,
-    /// Two-scale linear stage with the macro problem of METHOD §9 (absent: off).
+    /// Two-scale linear stage with the macro problem of METHOD §9 (default off).
     #[serde(default, rename = "macro", skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "cli", arg(long = "macro", value_name = "on|off", value_parser = crate::scene::settings::switch_from_arg))]
     pub two_scale: Option<bool>,
+}
+
+impl SolverSpec {
+    /// This layer over `lower`: each setting this layer gives, else `lower`'s.
+    pub fn over(&self, lower: &SolverSpec) -> SolverSpec {
+        SolverSpec {
+            tol: self.tol.or(lower.tol),
+            mu: self.mu.or(lower.mu),
+            k: self.k.or(lower.k),
+            max_iter: self.max_iter.or(lower.max_iter),
+            window: self.window.or(lower.window),
+            rho_inf: self.rho_inf.or(lower.rho_inf),
+            directions: self.directions.or(lower.directions),
+            stop: self.stop.or(lower.stop),
+            window_start: self.window_start.or(lower.window_start),
+            anderson: self.anderson.or(lower.anderson),
+            two_scale: self.two_scale.or(lower.two_scale),
+        }
+    }
 }
 
 /// A named material.
@@ -439,4 +477,17 @@ pub fn axes_of(s: &str) -> Vec<usize> {
             _ => None,
         })
         .collect()
+}
+
+/// Faces of a box by name: (axis, sign).
+pub fn face_of(name: &str) -> Option<(usize, f64)> {
+    match name {
+        "x-" => Some((0, -1.0)),
+        "x+" => Some((0, 1.0)),
+        "y-" => Some((1, -1.0)),
+        "y+" => Some((1, 1.0)),
+        "z-" => Some((2, -1.0)),
+        "z+" => Some((2, 1.0)),
+        _ => None,
+    }
 }

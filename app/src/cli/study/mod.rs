@@ -254,7 +254,12 @@ fn setup(args: &StudyArgs, ranks: usize) -> anyhow::Result<Setup> {
     };
     let plan = Plan {
         scene: built.spec.name.clone(),
-        fingerprint: crate::run_dir::fingerprint::of_run(&built.spec, &settings).to_string(),
+        fingerprint: crate::run_dir::fingerprint::of_run(
+            &built.spec,
+            &built.assignments,
+            &settings,
+        )
+        .to_string(),
         parameters: design.targets.iter().map(|t| t.label.clone()).collect(),
         spreads,
         design: match (args.samples, args.sampling) {

@@ -643,7 +643,7 @@ mod tests {
     use lopin_core::study::{Spread, Target};
 
     fn design() -> Design {
-        let problem = lopin_core::scene::build::build(
+        let problem = lopin_core::scene::problem_of(
             &lopin_core::scene::load("two-blocks").expect("scene"),
             "two-blocks",
         )

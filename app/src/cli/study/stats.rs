@@ -289,7 +289,7 @@ mod tests {
     #[test]
     fn finite_differences_and_regression_recover_a_linear_response() {
         // Q = 3 f − 2e5 gap + 1 on a 3 × 2 grid visited with one-parameter steps
-        let problem = lopin_core::scene::build::build(
+        let problem = lopin_core::scene::problem_of(
             &lopin_core::scene::load("two-blocks").expect("scene"),
             "two-blocks",
         )

@@ -24,7 +24,13 @@ impl<'a> RunJson<'a> {
     pub fn new(args: &SweepArgs, plan: &'a Plan, prepared: &Prepared) -> Self {
         RunJson {
             plan,
-            record: RunRecord::new("sweep", &args.scene.scene, &prepared.spec, &prepared.solver),
+            record: RunRecord::new(
+                "sweep",
+                &args.scene.scene,
+                &prepared.spec,
+                &prepared.assignments,
+                &prepared.solver,
+            ),
             start: Instant::now(),
         }
     }

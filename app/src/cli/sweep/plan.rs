@@ -114,7 +114,7 @@ impl Plan {
         };
         let header = Header {
             scene: prepared.spec.name.clone(),
-            scene_hash: fingerprint::of_scene(&prepared.spec),
+            scene_hash: fingerprint::of_scene(&prepared.spec, &prepared.assignments),
             settings_hash: fingerprint::of_settings(&settings),
             parameter: parameter.name().into(),
             values: values.clone(),

@@ -1,12 +1,16 @@
-//! The solver's settings (METHOD §3 search direction, §6 relaxation and stopping test, §7 time
-//! windows, §9 two-scale switch, §10 defaults), and the checks every setting gets.
+//! The solver's settings, every knob in one place (METHOD §2 time scheme, §3 search direction,
+//! §6 relaxation and stopping test, §7 time windows, §9 two-scale switch, §10 defaults), the
+//! checks every setting gets, and the one precedence rule that resolves them: the defaults, under
+//! the scene's `[solver]` table, under the command line or the explorer. Each of those layers
+//! is a [`SolverSpec`] (every field optional); [`SolverSpec::over`] stacks two, and
+//! [`Settings::for_problem`] resolves the stack against a problem's defaults.
 
 use crate::error::{LopinError, Result};
 use crate::interfaces::search_direction::Directions;
 use crate::problem::Problem;
-use crate::scene::settings::WindowStart;
+use crate::scene::settings::{StopTest, WindowStart};
 use crate::scene::spec::SolverSpec;
-use crate::stages::indicator::StopTest;
+use crate::time::time_scheme::TimeScheme;
 
 /// Solver settings (METHOD §10 defaults: k = mean √(ρE), μ = 0.8, tol = 1e-3).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -45,13 +49,26 @@ pub struct Settings {
     #[serde(default)]
     pub directions: Directions,
     /// Which indicator the stopping test reads: η, or η̄ on step-averaged fields
-    /// ([`crate::stages::indicator`]).
+    /// (`lopin_core::stages::indicator`).
     #[serde(default)]
     pub stop: StopTest,
-    /// Depth of the Anderson acceleration of the relaxation ([`crate::stages::acceleration`]; 0: the
-    /// plain relaxation of METHOD §6).
+    /// Depth of the Anderson acceleration of the relaxation (`lopin_core::stages::acceleration`;
+    /// 0: the plain relaxation of METHOD §6).
     #[serde(default)]
     pub anderson: usize,
+    /// Spectral radius at infinite frequency of the time scheme (METHOD §2; 1: the undamped
+    /// trapezoidal rule). The problem's scheme follows it; changing it refactorizes.
+    #[serde(default = "undamped", skip_serializing_if = "is_undamped")]
+    pub rho_inf: f64,
+}
+
+fn undamped() -> f64 {
+    1.0
+}
+
+/// Whether ρ∞ is the default (left out of records, which read it back as the default).
+fn is_undamped(rho_inf: &f64) -> bool {
+    *rho_inf == 1.0
 }
 
 impl Settings {
@@ -60,10 +77,23 @@ impl Settings {
     /// Largest Anderson depth accepted.
     pub const MAX_ANDERSON: usize = 50;
 
-    /// The defaults for a problem, overridden by the scene's solver section.
+    /// The defaults for a problem under a layer of settings (the scene's `[solver]` table, or
+    /// that table under the command line's, [`SolverSpec::over`]). The window is the layer's
+    /// length (None: the whole interval); a command picks it with
+    /// [`crate::window_choice::choose`].
     pub fn for_problem(problem: &Problem, spec: &SolverSpec) -> Self {
+        Self::under(problem.default_k(), spec)
+    }
+
+    /// The defaults of METHOD §10 for a model of impedance scale `k0` = mean √(ρE).
+    pub fn defaults(k0: f64) -> Self {
+        Self::under(k0, &SolverSpec::default())
+    }
+
+    /// The defaults for impedance scale `k0` under a layer.
+    fn under(k0: f64, spec: &SolverSpec) -> Self {
         Self {
-            k: spec.k.unwrap_or_else(|| problem.default_k()),
+            k: spec.k.unwrap_or(k0),
             mu: spec.mu.unwrap_or(0.8),
             tol: spec.tol.unwrap_or(1e-3),
             max_iter: spec.max_iter.unwrap_or(Self::MAX_ITER),
@@ -75,6 +105,7 @@ impl Settings {
             directions: spec.directions.unwrap_or_default(),
             stop: spec.stop.unwrap_or_default(),
             anderson: spec.anderson.unwrap_or(0),
+            rho_inf: spec.rho_inf.unwrap_or(1.0),
         }
     }
 
@@ -114,7 +145,14 @@ impl Settings {
         if self.window == Some(0) {
             return Err(LopinError::setting("window", "must be at least 1 step"));
         }
-        Ok(())
+        TimeScheme::new(self.rho_inf)
+            .check()
+            .map_err(|reason| LopinError::setting("rho_inf", reason))
+    }
+
+    /// The time scheme these settings ask for.
+    pub fn scheme(&self) -> TimeScheme {
+        TimeScheme::new(self.rho_inf)
     }
 
     /// Checks the settings against a problem: k within [`crate::scene::validate::K_RANGE`]
