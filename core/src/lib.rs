@@ -120,7 +120,6 @@ pub mod solver;
 pub mod stages;
 pub mod state;
 pub mod study;
-pub mod sweep;
 
 pub use lopin_model::{
     counters, elements, error, histories, interfaces, linalg, mesh, parameter, problem, scene,

@@ -377,7 +377,9 @@ impl Service {
                     hi
                 };
                 // the state is interpolated only once it is chosen
-                let between = params.friction.and_then(|v| self.library.between(v));
+                let between = params
+                    .friction
+                    .and_then(|v| self.library.between(v, &self.solver));
                 between.map(|(s, b)| (s, near, Some(b)))
             }
             (_, Some((_, v))) if gap(Some(v)) >= newest_gap => None,

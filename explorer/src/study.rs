@@ -3,23 +3,23 @@
 //! next (the unsolved value nearest the user's, so each solve starts close to a stored one), and
 //! the library of converged configurations: their interface states s and solutions ŝ in f32
 //! ([`StateStore`]), iterations and quantities of interest, from which a configuration is shown
-//! again without solving or warm-started from its nearest stored neighbour (between two stored
-//! ones, from their interpolation). Every stored configuration shares the other parameters (the
-//! library's base); a change of any of them empties it.
+//! again without solving or warm-started by the study engine's predictor (between two stored
+//! ones, their interpolation, [`Predictor::Bracket`]; else the nearest). Every stored
+//! configuration shares the other parameters (the library's base); a change of any of them
+//! empties it.
 
 use crate::params::Params;
 use lopin_core::state::{InterfaceState, TraceHistory};
-use lopin_core::study::{Quantities, StateStore};
-use lopin_core::Solution;
+pub use lopin_core::study::predictor::SAME;
+use lopin_core::study::{Predictor, Quantities, StateStore};
+use lopin_core::{Solution, Solver};
 
 /// Step of the background study's grid over the friction slider's range.
 pub const GRID_STEP: f64 = 0.05;
 /// The friction slider's range.
 pub const GRID_RANGE: (f64, f64) = (0.0, 1.0);
-/// Two friction values closer than this are the same configuration.
-pub const SAME: f64 = 1e-9;
 /// The background study stops before its stored states would pass this many bytes (two-blocks
-/// keeps 1.2 MB per configuration, granular-small 9.8 MB).
+/// keeps about 1 MB per configuration).
 pub const MEMORY_BUDGET: usize = 256 << 20;
 
 /// The friction values the background study covers.
@@ -99,38 +99,19 @@ impl Library {
     }
 
     /// The stored configurations nearest `value` below and above it, (index, value) each; None
-    /// unless `value` lies strictly between two stored ones.
+    /// unless `value` lies strictly between two stored ones ([`StateStore::bracket`]).
     pub fn bracket(&self, value: f64) -> Option<((usize, f64), (usize, f64))> {
-        let side = |below: bool| {
-            self.entries
-                .iter()
-                .enumerate()
-                .filter(|(_, e)| {
-                    if below {
-                        e.value < value - SAME
-                    } else {
-                        e.value > value + SAME
-                    }
-                })
-                .min_by(|a, b| {
-                    (a.1.value - value)
-                        .abs()
-                        .total_cmp(&(b.1.value - value).abs())
-                })
-                .map(|(i, e)| (i, e.value))
-        };
-        Some((side(true)?, side(false)?))
+        self.states.bracket(&[value], SAME)
     }
 
-    /// A warm start for `value` between two stored configurations: their states interpolated
-    /// linearly in the friction coefficient (admissible, as each is; METHOD §8), with the
-    /// bracket's two values. Friction enters only the interface laws, so the interpolation is
-    /// closer than either end: on two-blocks over the whole interval, f = 0.125 from 0.10 and
-    /// 0.15 converges in 5 iterations against 13 from 0.10 alone.
-    pub fn between(&self, value: f64) -> Option<(InterfaceState, (f64, f64))> {
-        let ((i, lo), (j, hi)) = self.bracket(value)?;
-        let state = self.states.between(i, j, (value - lo) / (hi - lo))?;
-        Some((state, (lo, hi)))
+    /// A warm start for `value` between two stored configurations, with the bracket's two
+    /// values: the study engine's [`Predictor::Bracket`] (their states interpolated linearly in
+    /// the friction coefficient, admissible as each is; METHOD §8). Friction enters only the
+    /// interface laws, so the interpolation is closer than either end.
+    pub fn between(&self, value: f64, solver: &Solver) -> Option<(InterfaceState, (f64, f64))> {
+        let start = Predictor::Bracket.start(&[], &self.states, &[value], solver);
+        let ((_, lo), (_, hi)) = start.between?;
+        Some((start.state?, (lo, hi)))
     }
 
     /// Keeps a converged configuration (replacing one at the same value); returns its index.

@@ -9,7 +9,8 @@
 use std::sync::Mutex;
 
 use lopin_core::scene;
-use lopin_core::study::runner::{self, Outcome, Predictor, RunOptions};
+use lopin_core::study::runner::{self, Outcome, RunOptions};
+use lopin_core::study::Predictor;
 use lopin_core::study::{projection, Chains, Design, Path, Sampling, Spread, Target};
 use lopin_core::{Settings, Solver};
 

@@ -4,7 +4,7 @@
 //! compares nodal velocities in the max norm over space-time; C ≈ 10 on `two-blocks`, so the
 //! bound is 30 · tol relative to max |v| (measured up to 18 · tol).
 
-use lopin_core::sweep::Predictor;
+use lopin_core::study::Predictor;
 use lopin_core::{scene, Parameter, Settings, Solver};
 use lopin_tests::{rel_diff, velocity_history};
 
@@ -22,7 +22,7 @@ fn warm_vs_cold(tol: f64) -> Vec<(f64, usize, usize, f64)> {
         solver.set_parameter(Parameter::Friction, f).expect("f");
         let refs: Vec<(f64, &lopin_core::InterfaceState)> =
             history.iter().map(|(v, s)| (*v, s)).collect();
-        let start = Predictor::Previous.predict(&refs, f);
+        let start = Predictor::Previous.extrapolate(&refs, f);
         let warm = solver.solve(start.as_ref()).expect("warm");
         let vw = velocity_history(&solver, &warm);
         let cold = solver.solve(None).expect("cold");

@@ -29,15 +29,14 @@ pub enum Spread {
 
 impl Spread {
     /// Parses `uniform(a,b)`, `normal(mean,sd)`, `lognormal(mu,sigma)`, or values as
-    /// [`crate::sweep::parse_values`] reads them.
+    /// [`parse_values`] reads them.
     pub fn parse(text: &str) -> Result<Self> {
         let text = text.trim();
         let bad = |why: String| LopinError::setting("param", why);
         let Some((name, rest)) = text.split_once('(') else {
             // a range's values to 12 significant digits (0.15, not 0.15000000000000002)
             let round = |x: f64| format!("{x:.11e}").parse::<f64>().unwrap_or(x);
-            return crate::sweep::parse_values(text)
-                .map(|v| Self::Values(v.into_iter().map(round).collect()));
+            return parse_values(text).map(|v| Self::Values(v.into_iter().map(round).collect()));
         };
         let args: Vec<f64> = rest
             .strip_suffix(')')
@@ -309,9 +308,56 @@ pub fn normal_quantile(u: f64) -> f64 {
     }
 }
 
+/// Values of one parameter: `a:b:step` (inclusive, rounded to the step) or a list `a,b,c`.
+pub fn parse_values(text: &str) -> Result<Vec<f64>> {
+    let bad = |why: String| LopinError::setting("param", why);
+    let num = |s: &str| {
+        s.trim()
+            .parse::<f64>()
+            .ok()
+            .filter(|x| x.is_finite())
+            .ok_or_else(|| bad(format!("`{s}` is not a number")))
+    };
+    let values = if text.contains(':') {
+        let parts: Vec<&str> = text.split(':').collect();
+        let [a, b, step] = parts.as_slice() else {
+            return Err(bad(format!("a range is start:stop:step, got `{text}`")));
+        };
+        let (a, b, step) = (num(a)?, num(b)?, num(step)?);
+        if step <= 0.0 || b < a {
+            return Err(bad(format!(
+                "range `{text}` needs step > 0 and stop ≥ start"
+            )));
+        }
+        let n = ((b - a) / step + 1e-9).floor() as usize;
+        if n > 100_000 {
+            return Err(bad(format!("range `{text}` has too many values")));
+        }
+        (0..=n).map(|i| a + step * i as f64).collect()
+    } else {
+        text.split(',').map(num).collect::<Result<Vec<f64>>>()?
+    };
+    if values.is_empty() {
+        return Err(bad("no values".into()));
+    }
+    Ok(values)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn ranges_and_lists() {
+        let v = parse_values("0:0.5:0.05").expect("range");
+        assert_eq!(v.len(), 11);
+        assert!((v[10] - 0.5).abs() < 1e-12);
+        assert_eq!(parse_values("0.1, 0.3").expect("list"), vec![0.1, 0.3]);
+        assert!(parse_values("0:1").is_err());
+        assert!(parse_values("a,b").is_err());
+        assert!(parse_values("1:0:0.1").is_err());
+    }
+
     use crate::parameter::Parameter;
 
     fn target(p: Parameter) -> Target {

@@ -1,7 +1,6 @@
 //! Runs a study: its chains at once on threads, each with its own solver (one factorization per
-//! chain, METHOD §4), each configuration warm-started from the nearest configuration its chain
-//! has solved ([`super::store`], METHOD §8), a parallelogram of three or a projection on the
-//! nearest ones ([`super::projection`]), or cold at a chain's start; every finished
+//! chain, METHOD §4), each configuration warm-started as its [`Predictor`] says from what its
+//! chain has solved (METHOD §8), or cold at a chain's start; every finished
 //! configuration handed to the caller at once (files are the caller's, so a stopped study keeps
 //! every finished configuration). A failure stops the other chains after their current
 //! configuration.
@@ -12,7 +11,8 @@ use std::sync::Mutex;
 use crate::counters::Instant;
 use crate::error::Result;
 use crate::solver::Solver;
-use crate::study::{path::scaled, projection, Chains, Design, Quantities, StateStore};
+use crate::state::InterfaceState;
+use crate::study::{path::scaled, Chains, Design, Predictor, Quantities, Start, StateStore};
 
 /// One solved configuration.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -52,54 +52,6 @@ pub struct RunOptions {
     pub compare_cold: bool,
     /// What a warm configuration starts from.
     pub predictor: Predictor,
-}
-
-/// The start of a warm configuration.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum Predictor {
-    /// The converged state of the nearest solved configuration.
-    #[default]
-    Nearest,
-    /// s_j + s_k − s_l from three solved configurations closing a parallelogram with the new
-    /// one ([`StateStore::parallelogram`]: on a grid, the change one parameter step made on the
-    /// neighbouring row carried over), else the nearest.
-    Parallelogram,
-    /// The affine combination of the [`projection::BASIS`] nearest stored states closest to
-    /// the new configuration's interface behaviour ([`super::projection`]).
-    Projection,
-}
-
-impl Predictor {
-    /// Name.
-    pub fn name(&self) -> &'static str {
-        match self {
-            Self::Nearest => "nearest",
-            Self::Parallelogram => "parallelogram",
-            Self::Projection => "projection",
-        }
-    }
-
-    /// The predictor of a study that asks for none, and why: the projection on the whole
-    /// interval with a dissipative scheme, where it saves iterations, else the nearest state
-    /// (module doc of [`super::projection`]).
-    pub fn auto(whole_interval: bool, rho_inf: f64) -> (Self, &'static str) {
-        match (whole_interval, rho_inf < 1.0) {
-            (true, true) => (
-                Self::Projection,
-                "auto: the whole interval with a dissipative scheme, where the projection on the \
-                 nearest states saves iterations",
-            ),
-            (true, false) => (
-                Self::Nearest,
-                "auto: the undamped rule, whose alternating mode makes a projected start no \
-                 better than the nearest state",
-            ),
-            (false, _) => (
-                Self::Nearest,
-                "auto: time windows, each started from the nearest state's converged step",
-            ),
-        }
-    }
 }
 
 /// Runs `chains` of `design`: `make_solver` builds one solver per chain; `done(i)` says that
@@ -172,6 +124,7 @@ fn run_chain(
     }
     let mut solver = make_solver()?;
     let mut store = StateStore::default();
+    let mut recent: Vec<(f64, InterfaceState)> = Vec::new();
     for (position, &i) in chain.iter().enumerate() {
         if stop.load(Ordering::Relaxed) {
             break;
@@ -184,35 +137,16 @@ fn run_chain(
         }
         // the wall time includes the start's making (a projection's local stages)
         let t = Instant::now();
-        let near = if options.cold {
-            None
+        let start = if options.cold {
+            Start::default()
         } else {
-            store.nearest(&points[i])
+            let chain_states: Vec<(f64, &InterfaceState)> =
+                recent.iter().map(|(v, s)| (*v, s)).collect();
+            options
+                .predictor
+                .start(&chain_states, &store, &points[i], &solver)
         };
-        let para = match options.predictor {
-            Predictor::Parallelogram if !options.cold => store.parallelogram(&points[i], 8),
-            _ => None,
-        };
-        let mut start = match para {
-            Some((j, k, l)) => store.combined(j, k, l),
-            None => near.and_then(|(j, _)| store.state(j)),
-        };
-        let mut start_residual = None;
-        if let (Predictor::Projection, false, Some(s0), Some((j0, _))) =
-            (options.predictor, options.cold, &start, near)
-        {
-            // (a study's solvers hold everything: chains, not substructures, go to the ranks)
-            let others: Vec<_> = store
-                .nearest_k(&points[i], projection::BASIS)
-                .into_iter()
-                .filter(|&j| j != j0)
-                .filter_map(|j| store.state(j))
-                .collect();
-            let p = projection::project(&solver, s0, &others, projection::GAUSS_NEWTON_STEPS);
-            start_residual = Some((p.residual_nearest, p.residual));
-            start = Some(p.state);
-        }
-        let sol = solver.solve(start.as_ref())?;
+        let sol = solver.solve(start.state.as_ref())?;
         let wall_s = t.elapsed().as_secs_f64();
         let quantities = Quantities::of(&solver, &sol);
         let cold_iterations = if options.compare_cold {
@@ -220,20 +154,23 @@ fn run_chain(
         } else {
             None
         };
-        if !options.cold {
+        if !options.cold && options.predictor.follows_the_chain() {
+            // the last two converged states in full precision (an extrapolation reads them)
+            recent.push((points[i][0], sol.state.clone()));
+            if recent.len() > 2 {
+                recent.remove(0);
+            }
+        } else if !options.cold {
             store.insert(i, &points[i], &sol.state);
         }
         finished(Outcome {
             index: i,
             chain: c,
             position,
-            start: para.map(|p| p.0).or(near.map(|n| n.0)),
-            start_change: para.map(|p| (p.1, p.2)),
-            start_residual,
-            start_distance: match para {
-                Some((j, _, _)) => store.distance_to(j, &points[i]),
-                None => near.map(|n| n.1),
-            },
+            start: start.from,
+            start_change: start.change,
+            start_residual: start.residual,
+            start_distance: start.distance,
             iterations: sol.iterations,
             eta: sol.eta,
             converged: sol.converged,

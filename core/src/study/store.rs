@@ -1,6 +1,7 @@
 //! Converged interface states of a study kept compactly (s in f32: half the memory of f64, and
-//! a warm start needs only a close start, METHOD §8), keyed by their scaled configuration, with
-//! the nearest solved configuration to start the next one from.
+//! a warm start needs only a close start, METHOD §8), keyed by their scaled configuration: the
+//! nearest solved configuration, a parallelogram of three, the bracket of a one-parameter study
+//! and the states combined from them, which [`super::predictor`] starts from.
 
 use crate::state::{InterfaceState, TraceHistory};
 use crate::study::path::{along_earlier, distance, moves};
@@ -178,6 +179,27 @@ impl StateStore {
             }
         }
         Some(out)
+    }
+
+    /// The stored configurations nearest `point` below and above it along its first coordinate
+    /// (a one-parameter study), (index, coordinate) each: None unless the point lies strictly
+    /// (by more than `same`) between two stored ones.
+    pub fn bracket(&self, point: &[f64], same: f64) -> Option<((usize, f64), (usize, f64))> {
+        let value = *point.first()?;
+        let side = |below: bool| {
+            self.entries
+                .iter()
+                .filter_map(|e| Some((e.index, *e.point.first()?)))
+                .filter(|&(_, x)| {
+                    if below {
+                        x < value - same
+                    } else {
+                        x > value + same
+                    }
+                })
+                .min_by(|a, b| (a.1 - value).abs().total_cmp(&(b.1 - value).abs()))
+        };
+        Some((side(true)?, side(false)?))
     }
 
     /// Scaled distance from stored configuration `index` to `point`.

@@ -8,7 +8,8 @@
 use std::path::PathBuf;
 
 use anyhow::Context;
-use lopin_core::sweep::{parse_values, Predictor};
+use lopin_core::study::design::parse_values;
+use lopin_core::study::Predictor;
 use lopin_core::Parameter;
 
 use super::SweepArgs;

@@ -7,6 +7,7 @@
 use anyhow::Context;
 use indicatif::{ProgressBar, ProgressStyle};
 use lopin_core::counters::Instant;
+use lopin_core::study::StateStore;
 use lopin_core::{post, Control, InterfaceState};
 
 use super::outputs::RunJson;
@@ -103,7 +104,10 @@ pub fn solve(
             None
         } else {
             let refs: Vec<(f64, &InterfaceState)> = history.iter().map(|(v, s)| (*v, s)).collect();
-            plan.predictor.predict(&refs, value)
+            // a sweep is a study of one parameter along one chain: its predictors follow it
+            plan.predictor
+                .start(&refs, &StateStore::default(), &[value], solver)
+                .state
         };
         let t = Instant::now();
         let mut record_error = None;
