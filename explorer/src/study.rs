@@ -11,7 +11,7 @@
 use crate::params::Params;
 use lopin_core::state::{InterfaceState, TraceHistory};
 pub use lopin_core::study::predictor::SAME;
-use lopin_core::study::{Predictor, Quantities, StateStore};
+use lopin_core::study::{Chain, Predictor, Quantities, StateStore};
 use lopin_core::{Solution, Solver};
 
 /// Step of the background study's grid over the friction slider's range.
@@ -53,16 +53,30 @@ pub struct Entry {
 }
 
 /// Converged configurations of one base.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone)]
 pub struct Library {
     base: Option<Params>,
-    states: StateStore,
+    /// The converged states s, started from by the study engine ([`Predictor::Bracket`]).
+    states: Chain,
     hats: StateStore,
     /// Sides of each interface (the shape of ŝ).
     sides: Vec<usize>,
     entries: Vec<Entry>,
     /// Grid values whose background solve failed or did not converge: not tried again.
     given_up: Vec<f64>,
+}
+
+impl Default for Library {
+    fn default() -> Self {
+        Self {
+            base: None,
+            states: Chain::new(Predictor::Bracket),
+            hats: StateStore::default(),
+            sides: Vec::new(),
+            entries: Vec::new(),
+            given_up: Vec::new(),
+        }
+    }
 }
 
 impl Library {
@@ -94,14 +108,14 @@ impl Library {
 
     /// The stored configuration nearest `value`: (its index, its value).
     pub fn nearest(&self, value: f64) -> Option<(usize, f64)> {
-        let (index, _) = self.states.nearest(&[value])?;
+        let (index, _) = self.states.store().nearest(&[value])?;
         Some((index, self.entries[index].value))
     }
 
     /// The stored configurations nearest `value` below and above it, (index, value) each; None
     /// unless `value` lies strictly between two stored ones ([`StateStore::bracket`]).
     pub fn bracket(&self, value: f64) -> Option<((usize, f64), (usize, f64))> {
-        self.states.bracket(&[value], SAME)
+        self.states.store().bracket(&[value], SAME)
     }
 
     /// A warm start for `value` between two stored configurations, with the bracket's two
@@ -109,7 +123,7 @@ impl Library {
     /// the friction coefficient, admissible as each is; METHOD §8). Friction enters only the
     /// interface laws, so the interpolation is closer than either end.
     pub fn between(&self, value: f64, solver: &Solver) -> Option<(InterfaceState, (f64, f64))> {
-        let start = Predictor::Bracket.start(&[], &self.states, &[value], solver);
+        let start = self.states.start(&[value], solver);
         let ((_, lo), (_, hi)) = start.between?;
         Some((start.state?, (lo, hi)))
     }
@@ -136,7 +150,7 @@ impl Library {
         }
         let index = self.entries.len();
         self.sides = sol.hats.iter().map(Vec::len).collect();
-        self.states.insert(index, &[value], &sol.state);
+        self.states.converged(index, &[value], &sol.state);
         let hats = InterfaceState {
             steps: sol.state.steps,
             subs: sol.hats.iter().flatten().cloned().collect(),
@@ -148,14 +162,14 @@ impl Library {
 
     /// The interface state of configuration `index` (a warm start), in f64.
     pub fn state(&self, index: usize) -> Option<InterfaceState> {
-        self.states.state(index)
+        self.states.store().state(index)
     }
 
     /// Configuration `index` as a converged solution (its s and ŝ back from f32): enough to
     /// draw any step, probe a node or record it.
     pub fn solution(&self, index: usize) -> Option<Solution> {
         let e = self.entries.get(index)?;
-        let state = self.states.state(index)?;
+        let state = self.states.store().state(index)?;
         let flat = self.hats.state(index)?.subs;
         let mut it = flat.into_iter();
         let hats: Vec<Vec<TraceHistory>> = self

@@ -28,6 +28,7 @@ use crate::run_dir::fingerprint::{self, Fingerprint};
 use crate::run_dir::solution_file::{decode_state, encode_state, file_checksum};
 use anyhow::{bail, Context};
 use lopin_core::state::InterfaceState;
+use lopin_core::study::{Chain, Predictor};
 use lopin_core::Problem;
 use serde::{Deserialize, Serialize};
 
@@ -200,8 +201,9 @@ pub struct Damage {
 pub struct Resumed {
     /// Records 0, 1, … up to the first missing or damaged one, all checked.
     pub records: Vec<ValueRecord>,
-    /// The states of the last two of them, (value, state), for the predictor.
-    pub last_states: Vec<(f64, InterfaceState)>,
+    /// The chain of converged states the study engine starts the next values from, seeded
+    /// with theirs.
+    pub chain: Chain,
     /// The first value that failed its checks, if one did.
     pub damage: Option<Damage>,
 }
@@ -295,8 +297,11 @@ impl Store {
 
     /// Checks the finished values 0, 1, … of a sweep of `n` values on `problem`, up to the
     /// first missing one or the first that fails (see the module doc).
-    pub fn verify(&self, n: usize, problem: &Problem) -> Resumed {
-        let mut out = Resumed::default();
+    pub fn verify(&self, n: usize, problem: &Problem, predictor: Predictor) -> Resumed {
+        let mut out = Resumed {
+            chain: Chain::new(predictor),
+            ..Resumed::default()
+        };
         for i in 0..n {
             if !self.dir.join(record_name(i)).exists() {
                 if let Some(j) = (i + 1..n).find(|&j| self.dir.join(record_name(j)).exists()) {
@@ -310,10 +315,7 @@ impl Store {
             }
             match self.check_value(i, problem) {
                 Ok((record, state)) => {
-                    out.last_states.push((record.value, state));
-                    if out.last_states.len() > 2 {
-                        out.last_states.remove(0);
-                    }
+                    out.chain.converged(i, &[record.value], &state);
                     out.records.push(record);
                 }
                 Err((path, reason)) => {

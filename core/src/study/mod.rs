@@ -4,10 +4,11 @@
 //! zone), which configurations are solved ([`design`]: value lists and ranges, grids, Latin
 //! hypercube or Monte Carlo samples from uniform, normal and lognormal distributions), in which
 //! order ([`path`]: a greedy nearest-neighbour path in scaled parameter space, cut into chains
-//! that run at once), from which start ([`predictor`], the one `Predictor`, reading the chain's
-//! last states and the [`store`] of converged states kept in f32), and what is reported of each
-//! ([`quantities`]); [`runner`] runs the chains at once.
+//! that run at once), from which start ([`predictor`], the one `Predictor`, reading what a
+//! [`chain`] has converged to: its last states and the [`store`] of converged states kept in
+//! f32), and what is reported of each ([`quantities`]); [`runner`] runs the chains at once.
 
+pub mod chain;
 pub mod design;
 pub mod path;
 pub mod predictor;
@@ -16,6 +17,7 @@ pub mod quantities;
 pub mod runner;
 pub mod store;
 
+pub use chain::Chain;
 pub use design::{Design, Sampling, Spread};
 pub use lopin_model::target::{self, Target};
 pub use path::{Chains, Path};

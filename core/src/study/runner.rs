@@ -11,8 +11,7 @@ use std::sync::Mutex;
 use crate::counters::Instant;
 use crate::error::Result;
 use crate::solver::Solver;
-use crate::state::InterfaceState;
-use crate::study::{path::scaled, Chains, Design, Predictor, Quantities, Start, StateStore};
+use crate::study::{path::scaled, Chain, Chains, Design, Predictor, Quantities, Start};
 
 /// One solved configuration.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -123,8 +122,7 @@ fn run_chain(
         return Ok(0);
     }
     let mut solver = make_solver()?;
-    let mut store = StateStore::default();
-    let mut recent: Vec<(f64, InterfaceState)> = Vec::new();
+    let mut kept = Chain::new(options.predictor);
     for (position, &i) in chain.iter().enumerate() {
         if stop.load(Ordering::Relaxed) {
             break;
@@ -140,11 +138,7 @@ fn run_chain(
         let start = if options.cold {
             Start::default()
         } else {
-            let chain_states: Vec<(f64, &InterfaceState)> =
-                recent.iter().map(|(v, s)| (*v, s)).collect();
-            options
-                .predictor
-                .start(&chain_states, &store, &points[i], &solver)
+            kept.start(&points[i], &solver)
         };
         let sol = solver.solve(start.state.as_ref())?;
         let wall_s = t.elapsed().as_secs_f64();
@@ -154,14 +148,8 @@ fn run_chain(
         } else {
             None
         };
-        if !options.cold && options.predictor.follows_the_chain() {
-            // the last two converged states in full precision (an extrapolation reads them)
-            recent.push((points[i][0], sol.state.clone()));
-            if recent.len() > 2 {
-                recent.remove(0);
-            }
-        } else if !options.cold {
-            store.insert(i, &points[i], &sol.state);
+        if !options.cold {
+            kept.converged(i, &points[i], &sol.state);
         }
         finished(Outcome {
             index: i,
@@ -179,5 +167,5 @@ fn run_chain(
             cold_iterations,
         })?;
     }
-    Ok(store.bytes())
+    Ok(kept.bytes())
 }

@@ -68,7 +68,7 @@ pub fn sweep(args: &SweepArgs) -> anyhow::Result<ExitCode> {
     } else {
         Ok(Store::follow(&plan.dir, &plan.header))
     })?;
-    let resumed = store.verify(plan.values.len(), prepared.solver.problem());
+    let resumed = store.verify(plan.values.len(), prepared.solver.problem(), plan.predictor);
     let finished = resumed.records.len() as f64;
     let mut seen = [
         finished,

@@ -7,8 +7,7 @@
 use anyhow::Context;
 use indicatif::{ProgressBar, ProgressStyle};
 use lopin_core::counters::Instant;
-use lopin_core::study::StateStore;
-use lopin_core::{post, Control, InterfaceState};
+use lopin_core::{post, Control};
 
 use super::outputs::RunJson;
 use super::plan::{Mode, Plan};
@@ -29,7 +28,7 @@ pub fn solve(
     let (parameter, values, header) = (plan.parameter, &plan.values, &plan.header);
     let Resumed {
         mut records,
-        last_states: mut history,
+        mut chain,
         damage,
     } = resumed;
     let root = crate::ranks::is_root();
@@ -76,7 +75,6 @@ pub fn solve(
             log_value(rec, r)?;
         }
     }
-    // `history`: the converged states the predictor extrapolates from (the last two)
     if root && (!records.is_empty() || damage.is_some()) {
         eprintln!(
             "resuming {}: {} of {} values finished",
@@ -103,11 +101,8 @@ pub fn solve(
         let start_state = if plan.mode == Mode::Cold {
             None
         } else {
-            let refs: Vec<(f64, &InterfaceState)> = history.iter().map(|(v, s)| (*v, s)).collect();
-            // a sweep is a study of one parameter along one chain: its predictors follow it
-            plan.predictor
-                .start(&refs, &StateStore::default(), &[value], solver)
-                .state
+            // a sweep is a study of one parameter along one chain, in the order of its values
+            chain.start(&[value], solver).state
         };
         let t = Instant::now();
         let mut record_error = None;
@@ -195,10 +190,7 @@ pub fn solve(
         }
         records.push(record);
         run_json.write(&records, solver)?;
-        history.push((value, sol.state));
-        if history.len() > 2 {
-            history.remove(0);
-        }
+        chain.converged(index, &[value], &sol.state);
         bar.inc(1);
     }
     bar.finish_and_clear();
