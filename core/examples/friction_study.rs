@@ -4,13 +4,17 @@
 //!
 //! `cargo run --release -p lopin-core --example friction_study`
 
-use lopin_core::{post, scene, Parameter, Settings, Solver};
+use lopin_core::window_choice::WindowRequest;
+use lopin_core::{post, scene, Parameter, Solver};
 
 fn main() -> lopin_core::Result<()> {
-    let spec = scene::load("two-blocks")?;
-    let problem = scene::problem_of(&spec, "two-blocks")?;
-    let settings = Settings::for_problem(&problem, &spec.solver);
-    let mut solver = Solver::new(problem, settings)?;
+    // every solve over the whole interval, each restarting from the previous one's
+    let whole = scene::Overrides {
+        window: WindowRequest::Whole,
+        ..Default::default()
+    };
+    let opened = scene::open("two-blocks", &whole)?;
+    let mut solver = Solver::new(opened.problem, opened.settings)?;
     let mut state = solver.solve(None)?.state;
     println!("    f  iterations  peak normal force (N)  max slip (m)");
     for i in 0..=6 {

@@ -10,19 +10,18 @@
 //!
 //! # Solve, change the friction, solve warm, read a field
 //!
-//! A scene comes from the registry of built-in scenes, a TOML file ([`scene::load`]) or code
-//! (next example). [`scene::build::build`] turns it into a [`Problem`] (meshes, substructures,
-//! interfaces); the [`Solver`] factorizes every substructure once and iterates (METHOD §2–§7).
+//! A scene comes from the registry of built-in scenes, a TOML file or code (next example).
+//! [`scene::open`] turns it into a [`Problem`] (meshes, substructures, interfaces) and the
+//! [`Settings`] of its solve (the defaults under the scene's `[solver]` under the overrides);
+//! the [`Solver`] factorizes every substructure once and iterates (METHOD §2–§7).
 //! A parameter of the interfaces ([`Parameter`]) changes without a new factorization, and the
 //! next solve restarts from the converged interface state (METHOD §8):
 //!
 //! ```
-//! use lopin_core::{post, scene, Parameter, Settings, Solver};
+//! use lopin_core::{post, scene, Parameter, Solver};
 //!
-//! let spec = scene::load("two-blocks")?;
-//! let problem = scene::problem_of(&spec, "two-blocks")?;
-//! let settings = Settings::for_problem(&problem, &spec.solver);
-//! let mut solver = Solver::new(problem, settings)?;
+//! let opened = scene::open("two-blocks", &scene::Overrides::default())?;
+//! let mut solver = Solver::new(opened.problem, opened.settings)?;
 //! let cold = solver.solve(None)?;
 //! assert!(cold.converged && cold.eta < 1e-3);
 //!
@@ -43,12 +42,12 @@
 //!
 //! The scene schema ([`scene::spec`]) is plain data: the same tables as a scene file. A steel
 //! cube clamped at the bottom, its top pushed down at 1 m/s through a (1 − cos) ramp, checked by
-//! [`scene::validate::validate`] as a file would be:
+//! the front door [`scene::open`] as a file would be:
 //!
 //! ```
 //! use lopin_core::scene::spec::{BodySpec, BoundarySpec, ComponentSpec, MaterialSpec, SceneSpec};
 //! use lopin_core::time::time_function::TimeGrid;
-//! use lopin_core::{post, scene, Settings, Solver};
+//! use lopin_core::{post, scene, Solver};
 //!
 //! let cube = BodySpec {
 //!     name: "cube".into(),
@@ -94,11 +93,9 @@
 //!     ],
 //!     zones: vec![],
 //! };
-//! scene::check(&spec, "cube")?;
-//! let problem = scene::problem_of(&spec, "cube")?;
-//! assert_eq!(problem.subs.len(), 2);
-//! let settings = Settings::for_problem(&problem, &spec.solver);
-//! let mut solver = Solver::new(problem, settings)?;
+//! let opened = scene::open(scene::Source::spec(spec.clone(), "cube"), &Default::default())?;
+//! assert_eq!(opened.problem.subs.len(), 2);
+//! let mut solver = Solver::new(opened.problem, opened.settings)?;
 //! let sol = solver.solve(None)?;
 //! assert!(sol.converged);
 //! // the energy balance: the work the load put in is the kinetic plus strain energy

@@ -5,17 +5,21 @@
 //! reference itself depends on the model only (`lopin-model`).
 //!
 //! ```
-//! use lopin_core::{scene, Settings, Solver};
+//! use lopin_core::scene::{self, spec::SolverSpec, Overrides};
+//! use lopin_core::window_choice::WindowRequest;
+//! use lopin_core::Solver;
 //! use lopin_judge::compare::compare;
 //! use lopin_reference::monolithic::Monolithic;
 //!
-//! let spec = scene::load("two-blocks")?;
-//! let problem = scene::problem_of(&spec, "two-blocks")?;
-//! let reference = Monolithic::new(problem.clone())?;
+//! let tight = Overrides {
+//!     solver: SolverSpec { tol: Some(1e-6), ..Default::default() },
+//!     window: WindowRequest::Whole,
+//!     ..Default::default()
+//! };
+//! let opened = scene::open("two-blocks", &tight)?;
+//! let reference = Monolithic::new(opened.problem.clone())?;
 //! let mono = reference.solve()?;
-//! let mut settings = Settings::for_problem(&problem, &spec.solver);
-//! settings.tol = 1e-6;
-//! let mut solver = Solver::new(problem, settings)?;
+//! let mut solver = Solver::new(opened.problem, opened.settings)?;
 //! let sol = solver.solve(None)?;
 //! let c = compare(&solver, &sol, &reference, &mono);
 //! assert!(c.rel_diff_velocity < 1e-3 && c.rel_diff_force < 1e-3, "{c:?}");

@@ -9,9 +9,8 @@
 //! ```
 //! use lopin_model::scene;
 //! use lopin_reference::monolithic::Monolithic;
-//! let spec = scene::load("two-blocks")?;
-//! let problem = scene::problem_of(&spec, "two-blocks")?;
-//! let reference = Monolithic::new(problem)?;
+//! let opened = scene::open("two-blocks", &scene::Overrides::default())?;
+//! let reference = Monolithic::new(opened.problem)?;
 //! let mono = reference.solve()?;
 //! assert!(mono.v.iter().flatten().all(|v| v.is_finite()));
 //! # Ok::<(), lopin_model::LopinError>(())

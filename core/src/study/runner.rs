@@ -8,9 +8,9 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Mutex;
 
-use crate::counters::Instant;
+use crate::counters::{Instant, IterationRecord};
 use crate::error::Result;
-use crate::solver::Solver;
+use crate::solver::{Control, Solution, Solver};
 use crate::study::{path::scaled, Chain, Chains, Design, Predictor, Quantities, Start};
 
 /// One solved configuration.
@@ -123,49 +123,155 @@ fn run_chain(
     }
     let mut solver = make_solver()?;
     let mut kept = Chain::new(options.predictor);
-    for (position, &i) in chain.iter().enumerate() {
-        if stop.load(Ordering::Relaxed) {
-            break;
-        }
-        if done(i) {
-            continue;
-        }
-        for (t, &x) in design.targets.iter().zip(&design.points[i]) {
-            solver.set_parameter_in(t.parameter, t.zone, x)?;
-        }
-        // the wall time includes the start's making (a projection's local stages)
-        let t = Instant::now();
-        let start = if options.cold {
-            Start::default()
-        } else {
-            kept.start(&points[i], &solver)
-        };
-        let sol = solver.solve(start.state.as_ref())?;
-        let wall_s = t.elapsed().as_secs_f64();
-        let quantities = Quantities::of(&solver, &sol);
-        let cold_iterations = if options.compare_cold {
-            Some(solver.solve(None)?.iterations)
-        } else {
-            None
-        };
-        if !options.cold {
-            kept.converged(i, &points[i], &sol.state);
-        }
-        finished(Outcome {
-            index: i,
-            chain: c,
-            position,
-            start: start.from,
-            start_change: start.change,
-            start_residual: start.residual,
-            start_distance: start.distance,
-            iterations: sol.iterations,
-            eta: sol.eta,
-            converged: sol.converged,
-            wall_s,
-            quantities,
-            cold_iterations,
-        })?;
-    }
+    let visit = Visit {
+        design,
+        points,
+        chain,
+        cold: options.cold,
+        done,
+        go_on: &|| !stop.load(Ordering::Relaxed),
+    };
+    visit.solve(
+        &mut solver,
+        &mut kept,
+        &mut |_, _| Control::Continue,
+        &mut |solver, solved| {
+            let quantities = Quantities::of(solver, &solved.solution);
+            let cold_iterations = if options.compare_cold {
+                Some(solver.solve(None)?.iterations)
+            } else {
+                None
+            };
+            let sol = &solved.solution;
+            finished(Outcome {
+                index: solved.index,
+                chain: c,
+                position: solved.position,
+                start: solved.start.from,
+                start_change: solved.start.change,
+                start_residual: solved.start.residual,
+                start_distance: solved.start.distance,
+                iterations: sol.iterations,
+                eta: sol.eta,
+                converged: sol.converged,
+                wall_s: solved.wall_s,
+                quantities,
+                cold_iterations,
+            })
+        },
+        &|failure| failure.error,
+    )?;
     Ok(kept.bytes())
+}
+
+/// One configuration of a chain, solved: what the caller records before the chain keeps its
+/// state.
+#[derive(Debug)]
+pub struct Solved {
+    /// Index of the configuration in the design.
+    pub index: usize,
+    /// Its position along its chain.
+    pub position: usize,
+    /// Where it started (its state dropped once solved).
+    pub start: Start,
+    /// The solution (the caller may gather it onto one rank; the chain keeps its state as the
+    /// caller leaves it).
+    pub solution: Solution,
+    /// Seconds of its start's making and its solve.
+    pub wall_s: f64,
+    /// The substructure solves the skip cache saved in this solve (cumulative over the
+    /// solver's life, read right after it).
+    pub skipped_solves: usize,
+}
+
+/// A configuration of a chain that could not be set or solved.
+#[derive(Debug)]
+pub struct Failure {
+    /// Index of the configuration in the design.
+    pub index: usize,
+    /// Whether it failed while its parameters were set (else while it was solved).
+    pub setting: bool,
+    /// Why.
+    pub error: crate::LopinError,
+}
+
+/// The visit of one chain of a study: which configurations, in which order, which are done
+/// already (a resumed study or sweep) and whether to go on.
+pub struct Visit<'a> {
+    /// The configurations.
+    pub design: &'a Design,
+    /// Their scaled points ([`scaled`]).
+    pub points: &'a [Vec<f64>],
+    /// The indices of the chain's configurations, in visiting order.
+    pub chain: &'a [usize],
+    /// Every configuration cold.
+    pub cold: bool,
+    /// Whether a configuration is finished already.
+    pub done: &'a dyn Fn(usize) -> bool,
+    /// Asked before each configuration: false stops the visit.
+    pub go_on: &'a dyn Fn() -> bool,
+}
+
+impl Visit<'_> {
+    /// Solves the chain's configurations in order on `solver`: each one's parameters set
+    /// through [`crate::Parameter`], its start from `kept` (cold when the visit is, or nothing
+    /// converged yet), its iterations shown to `observer` (with its index), the result handed
+    /// to `finished`
+    /// (which may solve again, gather or write), then its state kept in `kept`. A configuration
+    /// that cannot be set or solved ends the visit with `on_failure`'s error.
+    pub fn solve<E>(
+        &self,
+        solver: &mut Solver,
+        kept: &mut Chain,
+        observer: &mut dyn FnMut(usize, &IterationRecord) -> Control,
+        finished: &mut dyn FnMut(&mut Solver, &mut Solved) -> std::result::Result<(), E>,
+        on_failure: &dyn Fn(Failure) -> E,
+    ) -> std::result::Result<(), E> {
+        for (position, &i) in self.chain.iter().enumerate() {
+            if !(self.go_on)() {
+                break;
+            }
+            if (self.done)(i) {
+                continue;
+            }
+            let fail = |setting: bool| {
+                move |error| {
+                    on_failure(Failure {
+                        index: i,
+                        setting,
+                        error,
+                    })
+                }
+            };
+            for (t, &x) in self.design.targets.iter().zip(&self.design.points[i]) {
+                solver
+                    .set_parameter_in(t.parameter, t.zone, x)
+                    .map_err(fail(true))?;
+            }
+            // the wall time includes the start's making (a projection's local stages)
+            let t = Instant::now();
+            let mut start = if self.cold {
+                Start::default()
+            } else {
+                kept.start(&self.points[i], solver)
+            };
+            let solution = solver
+                .solve_with(start.state.as_ref(), &mut |r| observer(i, r))
+                .map_err(fail(false))?;
+            start.state = None;
+            let mut solved = Solved {
+                index: i,
+                position,
+                start,
+                solution,
+                wall_s: t.elapsed().as_secs_f64(),
+                skipped_solves: solver.counters().skipped_solves(),
+            };
+            finished(solver, &mut solved)?;
+            if !self.cold {
+                kept.converged(i, &self.points[i], &solved.solution.state);
+            }
+        }
+        Ok(())
+    }
 }

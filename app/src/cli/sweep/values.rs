@@ -1,13 +1,18 @@
-//! Solving the values of a sweep: each value set through [`lopin_core::Parameter`], started cold
-//! or from the predictor's state (METHOD §8), its cold solve with `--compare-cold`, its record
+//! Solving the values of a sweep, a study of one parameter visited along one chain by the study
+//! engine ([`Visit`]): each value set through [`lopin_core::Parameter`], started cold or from the
+//! predictor's state (METHOD §8), its cold solve with `--compare-cold`, its record
 //! and state saved at once (the resume point), run.json updated, the recording fed; a resumed
 //! sweep restarts after its last value that passed its checks, from the stored states: a
 //! damaged value is reported on stderr (file and reason) and recomputed with all after it.
 
+use std::cell::RefCell;
+
 use anyhow::Context;
 use indicatif::{ProgressBar, ProgressStyle};
 use lopin_core::counters::Instant;
-use lopin_core::{post, Control};
+use lopin_core::study::runner::{Solved, Visit};
+use lopin_core::study::{Design, Target};
+use lopin_core::{post, Control, Solver};
 
 use super::outputs::RunJson;
 use super::plan::{Mode, Plan};
@@ -48,7 +53,7 @@ pub fn solve(
     let mut run_json = RunJson::new(args, plan, prepared);
     let solver = &mut prepared.solver;
     run_json.write(&records, solver)?;
-    let mut recorder = if !root {
+    let recorder = if !root {
         None
     } else {
         args.rerun.open(
@@ -93,46 +98,107 @@ pub fn solve(
             .unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
     bar.set_position(records.len() as u64);
-    for index in records.len()..values.len() {
-        let value = values[index];
-        solver
-            .set_parameter(parameter, value)
-            .with_context(|| format!("{} = {value:?}", parameter.name()))?;
-        let start_state = if plan.mode == Mode::Cold {
-            None
-        } else {
-            // a sweep is a study of one parameter along one chain, in the order of its values
-            chain.start(&[value], solver).state
-        };
-        let t = Instant::now();
-        let mut record_error = None;
-        let sol = solver.solve_with(start_state.as_ref(), &mut |r| {
+    // a sweep is a study of one parameter visited along one chain in the order of its values
+    // (its points the values themselves, which the extrapolations scale)
+    let design = Design {
+        targets: vec![Target {
+            parameter,
+            zone: None,
+            label: parameter.name().into(),
+        }],
+        points: values.iter().map(|&v| vec![v]).collect(),
+        sampled: false,
+    };
+    let order: Vec<usize> = (0..values.len()).collect();
+    let resumed = records.len();
+    let visit = Visit {
+        design: &design,
+        points: &design.points,
+        chain: &order,
+        cold: plan.mode == Mode::Cold,
+        done: &|i| i < resumed,
+        go_on: &|| true,
+    };
+    let recorder = RefCell::new(recorder);
+    let record_error = RefCell::new(None);
+    let sink = Sink {
+        args,
+        plan,
+        store,
+        recorder: &recorder,
+        recording,
+        bar: &bar,
+    };
+    visit.solve(
+        solver,
+        &mut chain,
+        &mut |i, r| {
             bar.set_message(format!(
-                "{} = {value:.4}: iteration {} eta {:.2e}",
+                "{} = {:.4}: iteration {} eta {:.2e}",
                 parameter.name(),
+                values[i],
                 r.iteration,
                 r.eta
             ));
-            if let (Some(rec), None) = (recorder.as_mut(), &record_error) {
-                record_error = rec.iteration(r).err();
+            let mut error = record_error.borrow_mut();
+            if let (Some(rec), None) = (recorder.borrow_mut().as_mut(), &*error) {
+                *error = rec.iteration(r).err();
             }
             Control::Continue
-        });
-        let finished = records.len();
-        let mut sol = sol.with_context(|| {
-            format!(
-                "{} = {value:?}: solving (the {finished} values before it are kept in {})",
-                parameter.name(),
-                plan.dir.display()
-            )
-        })?;
-        if let Some(e) = record_error {
-            return Err(e.context("recording the iterations"));
-        }
-        let wall_s = t.elapsed().as_secs_f64();
-        let skipped_solves = solver.counters().skipped_solves();
-        let s = post::summary(solver, &sol);
-        let cold = if plan.mode == Mode::CompareCold {
+        },
+        &mut |solver, solved| {
+            if let Some(e) = record_error.borrow_mut().take() {
+                return Err(e.context("recording the iterations"));
+            }
+            records.push(sink.finish(solver, solved)?);
+            run_json.write(&records, solver)?;
+            bar.inc(1);
+            Ok(())
+        },
+        &|failure| {
+            let value = values[failure.index];
+            let what = format!("{} = {value:?}", parameter.name());
+            if failure.setting {
+                anyhow::Error::new(failure.error).context(what)
+            } else {
+                anyhow::Error::new(failure.error).context(format!(
+                    "{what}: solving (the {} values before it are kept in {})",
+                    failure.index,
+                    plan.dir.display()
+                ))
+            }
+        },
+    )?;
+    let mut recorder = recorder.into_inner();
+    bar.finish_and_clear();
+    run_json.write(&records, solver)?;
+    if let Some(rec) = recorder.take() {
+        let target = rec.close(FLUSH_TIMEOUT)?;
+        eprintln!("recording: {}", target.describe());
+    }
+    Ok(records)
+}
+
+/// What a sweep does with each solved value: its record (the post-processed quantities, the
+/// cold solve of `--compare-cold`), its state saved (gathered onto rank 0 when distributed),
+/// the recording fed, a warning when it did not converge.
+struct Sink<'a> {
+    args: &'a SweepArgs,
+    plan: &'a Plan,
+    store: &'a Store,
+    recorder: &'a RefCell<Option<Recorder>>,
+    recording: bool,
+    bar: &'a ProgressBar,
+}
+
+impl Sink<'_> {
+    /// The record of a solved value, once its state is saved and recorded.
+    fn finish(&self, solver: &mut Solver, solved: &mut Solved) -> anyhow::Result<ValueRecord> {
+        let (parameter, index) = (self.plan.parameter, solved.index);
+        let value = self.plan.values[index];
+        let sol = &mut solved.solution;
+        let s = post::summary(solver, sol);
+        let cold = if self.plan.mode == Mode::CompareCold {
             let t = Instant::now();
             let c = solver
                 .solve(None)
@@ -153,8 +219,8 @@ pub fn solve(
             iterations: sol.iterations,
             eta: sol.eta,
             converged: sol.converged,
-            wall_s,
-            skipped_solves,
+            wall_s: solved.wall_s,
+            skipped_solves: solved.skipped_solves,
             peak_normal_force: s.peak_normal_force,
             max_slip: s.max_slip,
             energy_end: s.kinetic_end + s.strain_end,
@@ -163,43 +229,33 @@ pub fn solve(
             state_file: state_name(index),
         };
         // distributed: rank 0 writes the whole state
-        solver.gather_to_root(&mut sol);
-        store.save(&record, &sol.state)?;
+        solver.gather_to_root(sol);
+        self.store.save(&record, &sol.state)?;
         let mut fields = Vec::new();
-        if recording {
-            fields = post::history(solver, &sol);
+        if self.recording {
+            fields = post::history(solver, sol);
             post::gather_history(solver, &mut fields);
         }
-        if let Some(rec) = recorder.as_mut() {
+        if let Some(rec) = self.recorder.borrow_mut().as_mut() {
             rec.solution(
                 solver,
-                &sol,
+                sol,
                 &fields,
                 &[("parameter", index as i64)],
-                args.rerun.rerun_deform,
+                self.args.rerun.rerun_deform,
             )?;
             log_value(rec, &record)?;
         }
         if !sol.converged {
-            bar.println(format!(
+            self.bar.println(format!(
                 "warning: {} = {value}: not converged after {} iterations (eta {:.3e})",
                 parameter.name(),
                 sol.iterations,
                 sol.eta
             ));
         }
-        records.push(record);
-        run_json.write(&records, solver)?;
-        chain.converged(index, &[value], &sol.state);
-        bar.inc(1);
+        Ok(record)
     }
-    bar.finish_and_clear();
-    run_json.write(&records, solver)?;
-    if let Some(rec) = recorder.take() {
-        let target = rec.close(FLUSH_TIMEOUT)?;
-        eprintln!("recording: {}", target.describe());
-    }
-    Ok(records)
 }
 
 /// The quantities of one finished value on the `parameter` timeline.
