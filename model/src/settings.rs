@@ -31,14 +31,14 @@ pub struct Settings {
     /// On a cold start, where each time window's iteration begins ([`WindowStart`]): the
     /// default (`Auto`) extrapolates the mean change of the last two converged steps at
     /// tolerances of 1e-3 and tighter and holds the last step above; `Zero` is the plain METHOD
-    /// §7 variant (found by the stress suite to cost 2× the iterations of `Hold` in incremental
-    /// runs).
+    /// §7 variant (more iterations than `Hold` in incremental runs: the guide,
+    /// docs/src/iterations.md, gives the figures).
     #[serde(default)]
     pub window_start: WindowStart,
     /// Normalize a window's η by its own energy plus the mean energy per step of the earlier
     /// windows times the window length (true, default), rather than by the whole energy of steps
     /// 1..m1 (false, METHOD §7): with the cumulative norm the criterion loosens as the run goes
-    /// on, and the stress suite saw a 10⁴-step impact gain 20 % energy at η < 1e-3.
+    /// on, and a long impact can gain energy while η is below the tolerance.
     pub per_step_window_norm: bool,
     /// Two-scale linear stage: the macro problem of METHOD §9 couples all substructures at every
     /// time step (false: the single-scale linear stage of METHOD §4).

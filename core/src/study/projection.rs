@@ -21,11 +21,11 @@
 //! result is reported as ρ_Γ = √(J / D), D being η's denominator, for the nearest state and for
 //! the start; the nearest state is kept when no combination does better.
 //!
-//! Where it pays: on the whole interval with a dissipative scheme (ρ∞ < 1), the 11 × 11
-//! f × gap grid of `two-blocks` takes 686 iterations against 979 from the nearest state and
-//! 2,121 cold (the guide, docs/src/studies.md). With the undamped rule the alternating mode of METHOD §10
-//! makes the distance a poor guide (the same grid: 7,146 against 5,643), and on one-step
-//! windows each window already starts from the nearest state's converged step.
+//! Where it pays: on the whole interval with a dissipative scheme (ρ∞ < 1), where a grid of
+//! `two-blocks` takes fewer iterations from the projection than from the nearest state (the
+//! guide, docs/src/studies.md, gives the figures). With the undamped rule the alternating mode
+//! of METHOD §10 makes the distance a poor guide, and on one-step windows each window already
+//! starts from the nearest state's converged step.
 
 use crate::interfaces::interface::Law;
 use crate::par;

@@ -42,8 +42,8 @@ pub struct SweepArgs {
     /// Run the warm sweep and, for each value, the cold solve too.
     #[arg(long)]
     pub compare_cold: bool,
-    /// Start state of each value: `previous` (the converged state of the previous value; measured
-    /// best) or `linear` (extrapolate the two previous).
+    /// Start state of each value: `previous` (the converged state of the previous value), `linear`
+    /// (extrapolate the two previous) or `smooth` (extrapolate their time-filtered change).
     #[arg(long, value_enum, default_value_t = PredictorArg::Previous)]
     pub predictor: PredictorArg,
     /// Continue the sweep stored in --out from its last finished value.
