@@ -377,9 +377,7 @@ impl Service {
                     hi
                 };
                 // the state is interpolated only once it is chosen
-                let between = params
-                    .friction
-                    .and_then(|v| self.library.between(v, &self.solver));
+                let between = params.friction.and_then(|v| self.library.between(v));
                 between.map(|(s, b)| (s, near, Some(b)))
             }
             (_, Some((_, v))) if gap(Some(v)) >= newest_gap => None,

@@ -12,7 +12,7 @@ use crate::params::Params;
 use lopin_core::state::{InterfaceState, TraceHistory};
 pub use lopin_core::study::predictor::SAME;
 use lopin_core::study::{Chain, Predictor, Quantities, StateStore};
-use lopin_core::{Solution, Solver};
+use lopin_core::Solution;
 
 /// Step of the background study's grid over the friction slider's range.
 pub const GRID_STEP: f64 = 0.05;
@@ -122,8 +122,8 @@ impl Library {
     /// values: the study engine's [`Predictor::Bracket`] (their states interpolated linearly in
     /// the friction coefficient, admissible as each is; METHOD §8). Friction enters only the
     /// interface laws, so the interpolation is closer than either end.
-    pub fn between(&self, value: f64, solver: &Solver) -> Option<(InterfaceState, (f64, f64))> {
-        let start = self.states.start(&[value], solver);
+    pub fn between(&self, value: f64) -> Option<(InterfaceState, (f64, f64))> {
+        let start = Predictor::bracket_start(self.states.store(), &[value]);
         let ((_, lo), (_, hi)) = start.between?;
         Some((start.state?, (lo, hi)))
     }

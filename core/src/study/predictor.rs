@@ -165,16 +165,7 @@ impl Predictor {
                     return start;
                 }
             }
-            Self::Bracket => {
-                if let Some(((j, lo), (k, hi))) = store.bracket(point, SAME) {
-                    let value = point[0];
-                    start.state = store.between(j, k, (value - lo) / (hi - lo));
-                    start.between = Some(((j, lo), (k, hi)));
-                    start.from = Some(if value - lo <= hi - value { j } else { k });
-                    start.distance = start.from.and_then(|i| store.distance_to(i, point));
-                    return start;
-                }
-            }
+            Self::Bracket => return Self::bracket_start(store, point),
             _ => {}
         }
         start.state = start.from.and_then(|j| store.state(j));
@@ -191,6 +182,30 @@ impl Predictor {
             start.state = Some(p.state);
         }
         start
+    }
+
+    /// The start of [`Predictor::Bracket`]: inside a bracket of stored values the
+    /// interpolation of its two ends, else the nearest stored state (no local stage runs, so
+    /// no solver is needed).
+    pub fn bracket_start(store: &StateStore, point: &[f64]) -> Start {
+        let near = store.nearest(point);
+        let Some(((j, lo), (k, hi))) = store.bracket(point, SAME) else {
+            return Start {
+                state: near.and_then(|(j, _)| store.state(j)),
+                from: near.map(|n| n.0),
+                distance: near.map(|n| n.1),
+                ..Start::default()
+            };
+        };
+        let value = point[0];
+        let from = if value - lo <= hi - value { j } else { k };
+        Start {
+            state: store.between(j, k, (value - lo) / (hi - lo)),
+            from: Some(from),
+            between: Some(((j, lo), (k, hi))),
+            distance: store.distance_to(from, point),
+            ..Start::default()
+        }
     }
 
     /// The start for parameter value `p` from the chain's converged (value, state) pairs, most

@@ -327,9 +327,9 @@ fn mesh_file(script: &str, name: &str) -> std::result::Result<String, String> {
 
 #[cfg(not(feature = "msh"))]
 fn mesh_file(_: &str, _: &str) -> std::result::Result<String, String> {
-    Err(
-        "this build of Lopin meshes no polyhedral grains (the web build): run the scene with \
-         the `lopin` command line"
-            .into(),
-    )
+    Err(NOT_MESHED.into())
 }
+
+/// Why a build without the `msh` feature (the web build) opens no `[granular_poly]` scene.
+pub const NOT_MESHED: &str = "this build of Lopin meshes no polyhedral grains (the web build): \
+                              run the scene with the `lopin` command line";

@@ -253,6 +253,14 @@ fn expand_checked(
     shape: SolveShape,
 ) -> Result<(SceneSpec, Footprint)> {
     if spec.granular_poly.is_some() {
+        if cfg!(not(feature = "msh")) {
+            // nothing to mesh the sample with: refused before any grain is placed
+            return Err(LopinError::scene(
+                source,
+                "granular_poly",
+                granular_poly::NOT_MESHED,
+            ));
+        }
         let grains = granular_poly::placed_grains(spec, source)?;
         let footprint = admission::admit(spec, source, shape)?;
         let expanded = granular_poly::expand_placed(spec, source, &grains)?;
