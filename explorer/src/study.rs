@@ -10,6 +10,7 @@
 
 use crate::params::Params;
 use lopin_core::state::{InterfaceState, TraceHistory};
+use lopin_core::study::path::nearest_open;
 pub use lopin_core::study::predictor::SAME;
 use lopin_core::study::{Chain, Predictor, Quantities, StateStore};
 use lopin_core::Solution;
@@ -211,18 +212,17 @@ impl Library {
         self.given_up.push(value);
     }
 
-    /// The grid value to solve next: the unstored one nearest `current` (ties: the lower),
-    /// never one given up; None once one more configuration would pass [`MEMORY_BUDGET`].
+    /// The grid value to solve next, in the study engine's order ([`nearest_open`]): the
+    /// unstored one nearest `current` (ties: the lower), never one given up; None once one more
+    /// configuration would pass [`MEMORY_BUDGET`].
     pub fn next_value(&self, current: f64) -> Option<f64> {
         let n = self.entries.len();
         if n > 0 && self.bytes() / n * (n + 1) > MEMORY_BUDGET {
             return None;
         }
-        grid()
-            .into_iter()
-            .filter(|&v| self.exact(v).is_none())
-            .filter(|&v| !self.given_up.iter().any(|g| (g - v).abs() < SAME))
-            .min_by(|a, b| (a - current).abs().total_cmp(&(b - current).abs()))
+        let open =
+            |v: f64| self.exact(v).is_none() && !self.given_up.iter().any(|g| (g - v).abs() < SAME);
+        nearest_open(&grid(), open, current)
     }
 
     /// The stored configuration nearest `current` whose picture is not at `step`.

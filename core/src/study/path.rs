@@ -318,9 +318,27 @@ impl Chains {
     }
 }
 
+/// The next value of a one-parameter study that grows around a moving value (the explorer's
+/// background study around its slider): among `grid`, the value nearest `current` (ties: the
+/// lower) that `open` still accepts (not solved, not given up); None once none is.
+pub fn nearest_open(grid: &[f64], open: impl Fn(f64) -> bool, current: f64) -> Option<f64> {
+    grid.iter()
+        .copied()
+        .filter(|&v| open(v))
+        .min_by(|a, b| (a - current).abs().total_cmp(&(b - current).abs()))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_nearest_open_value_prefers_the_lower_on_a_tie() {
+        let grid = [0.0, 0.1, 0.2, 0.3];
+        assert_eq!(nearest_open(&grid, |_| true, 0.15), Some(0.1));
+        assert_eq!(nearest_open(&grid, |v| v != 0.1, 0.12), Some(0.2));
+        assert_eq!(nearest_open(&grid, |_| false, 0.12), None);
+    }
 
     #[test]
     fn the_greedy_path_on_a_grid_snakes_with_unit_steps() {
