@@ -144,64 +144,52 @@ impl Solver {
         &self.settings
     }
 
-    /// Changes the settings; refactorizes only if k, ρ∞ or the direction shape changed, and
-    /// switches the linear stage when
-    /// the two-scale switch changed (building the macro problem if none is held for this k).
+    /// Changes the settings; refactorizes once if k, ρ∞ or the direction shape changed, and
+    /// switches the linear stage when the two-scale switch changed (building the macro problem
+    /// if none is held for these operators).
     /// On an error the solver keeps its previous settings.
     pub fn set_settings(&mut self, settings: Settings) -> Result<()> {
         settings.validate_for(&self.problem)?;
         check_distributable(&settings, &self.distribution)?;
-        if settings.rho_inf != self.settings.rho_inf {
-            self.set_scheme(settings.scheme())?;
-        }
         let start = Instant::now();
-        if settings.directions != self.settings.directions {
+        let (scheme, directions) = (self.problem.scheme, self.settings.directions);
+        self.problem.scheme = settings.scheme();
+        if settings.directions != directions {
             // the classes of identical operators may split or merge with the direction
             search_direction::apply(&mut self.problem, settings.directions);
             let classes = std::mem::replace(&mut self.classes, factor_classes(&self.problem.subs));
             if let Err(e) = self.refactorize(settings.k) {
-                search_direction::apply(&mut self.problem, self.settings.directions);
+                search_direction::apply(&mut self.problem, directions);
                 self.classes = classes;
+                self.problem.scheme = scheme;
                 return Err(e);
             }
-            self.settings.k = settings.k;
-            self.settings.directions = settings.directions;
-        } else if settings.k != self.settings.k {
-            self.refactorize(settings.k)?;
-            self.settings.k = settings.k;
+        } else if settings.k != self.settings.k || self.problem.scheme != scheme {
+            if let Err(e) = self.refactorize(settings.k) {
+                self.problem.scheme = scheme;
+                return Err(e);
+            }
         }
+        // the operators are those of the new k, direction and scheme from here on
+        self.settings.k = settings.k;
+        self.settings.directions = settings.directions;
+        self.settings.rho_inf = settings.rho_inf;
         self.set_scale(settings.two_scale, settings.k)?;
         self.settings = settings;
         self.counters.setup_s += start.elapsed().as_secs_f64();
         Ok(())
     }
 
-    /// Changes the time scheme of the problem (METHOD §2, [`crate::time::time_scheme`]): S changes, so
-    /// every class is refactorized and the macro problem rebuilt if the two-scale stage runs. A
-    /// warm start from a state of another scheme is legitimate (it is only a start). On an error
-    /// the solver keeps its previous scheme.
+    /// Changes the time scheme of the problem (METHOD §2, [`crate::time::time_scheme`]): the
+    /// settings' ρ∞ ([`Self::set_settings`]). S changes, so every class is refactorized and the
+    /// macro problem rebuilt if the two-scale stage runs. A warm start from a state of another
+    /// scheme is legitimate (it is only a start). On an error the solver keeps its previous
+    /// scheme.
     pub fn set_scheme(&mut self, scheme: crate::time::time_scheme::TimeScheme) -> Result<()> {
-        scheme
-            .check()
-            .map_err(|reason| LopinError::setting("rho_inf", reason))?;
-        if scheme == self.problem.scheme {
-            self.settings.rho_inf = scheme.rho_inf;
-            return Ok(());
-        }
-        let start = Instant::now();
-        let previous = self.problem.scheme;
-        // refactorizing leaves the single-scale stage: note the switch before it does
-        let two_scale = self.settings.two_scale;
-        self.problem.scheme = scheme;
-        if let Err(e) = self.refactorize(self.settings.k) {
-            self.problem.scheme = previous;
-            return Err(e);
-        }
-        self.set_scale(two_scale, self.settings.k)?;
-        self.settings.two_scale = two_scale;
-        self.settings.rho_inf = scheme.rho_inf;
-        self.counters.setup_s += start.elapsed().as_secs_f64();
-        Ok(())
+        self.set_settings(Settings {
+            rho_inf: scheme.rho_inf,
+            ..self.settings
+        })
     }
 
     /// Factorizes S of every class for search direction `k` and the current scheme, and leaves

@@ -107,15 +107,9 @@ pub struct ExplorerApp {
     ctx: egui::Context,
 }
 
-/// A scene opened for the explorer ([`scene::open`]: the whole interval, re-solved warm after
-/// each change), with the geometry of its view.
-pub(crate) struct Loaded {
-    opened: scene::Opened,
-    geometry: SceneGeometry,
-}
-
-/// Opens a scene with the explorer's options over the scene's `[solver]` table.
-pub(crate) fn load(options: &Options) -> lopin_core::Result<Loaded> {
+/// Opens a scene for the explorer ([`scene::open`]: the whole interval, re-solved warm after
+/// each change), with its options over the scene's `[solver]` table.
+pub(crate) fn load(options: &Options) -> lopin_core::Result<scene::Opened> {
     let overrides = scene::Overrides {
         solver: scene::spec::SolverSpec {
             two_scale: options.two_scale,
@@ -123,9 +117,7 @@ pub(crate) fn load(options: &Options) -> lopin_core::Result<Loaded> {
         },
         ..scene::Overrides::for_task(Task::Interactive)
     };
-    let opened = scene::open(&options.scene, &overrides)?;
-    let geometry = SceneGeometry::of(&opened.problem);
-    Ok(Loaded { opened, geometry })
+    scene::open(&options.scene, &overrides)
 }
 
 impl ExplorerApp {
@@ -139,7 +131,7 @@ impl ExplorerApp {
     pub(crate) fn opened(
         cc: &eframe::CreationContext<'_>,
         options: Options,
-        loaded: Loaded,
+        loaded: scene::Opened,
     ) -> lopin_core::Result<Self> {
         let gpu = match &cc.wgpu_render_state {
             Some(rs) => {
@@ -154,19 +146,16 @@ impl ExplorerApp {
     fn with_context(
         ctx: egui::Context,
         options: Options,
-        loaded: Loaded,
+        loaded: scene::Opened,
         gpu: bool,
     ) -> lopin_core::Result<Self> {
-        let Loaded {
-            opened:
-                scene::Opened {
-                    spec,
-                    problem,
-                    settings,
-                    ..
-                },
-            geometry: geo,
+        let scene::Opened {
+            spec,
+            problem,
+            settings,
+            ..
         } = loaded;
+        let geo = SceneGeometry::of(&problem);
         let info = SceneInfo {
             name: spec.name.clone(),
             description: spec.description.clone(),

@@ -94,27 +94,21 @@ impl Assignment {
             ))
         })?;
         let target = target.trim();
-        let name = target.split_once('@').map_or(target, |(n, _)| n.trim());
-        Parameter::parse(name)?;
+        let parameter = Parameter::parse(name_of(target))?;
         let value: f64 = value
             .trim()
             .parse()
             .map_err(|_| bad(format!("`{}` is not a number (in `{text}`)", value.trim())))?;
-        let assignment = Self {
+        parameter.check(value)?;
+        Ok(Self {
             target: target.to_string(),
             value,
-        };
-        assignment.parameter().check(value)?;
-        Ok(assignment)
+        })
     }
 
     /// The parameter it sets.
-    pub fn parameter(&self) -> Parameter {
-        let name = self
-            .target
-            .split_once('@')
-            .map_or(self.target.as_str(), |(n, _)| n.trim());
-        Parameter::parse(name).unwrap_or(Parameter::Friction)
+    pub fn parameter(&self) -> Result<Parameter> {
+        Parameter::parse(name_of(&self.target))
     }
 
     /// Sets the value on a problem (the target read against its zones, the value checked
@@ -122,6 +116,11 @@ impl Assignment {
     pub fn apply(&self, problem: &mut Problem) -> Result<()> {
         Target::parse(&self.target, problem)?.apply(problem, self.value)
     }
+}
+
+/// The parameter's name in `NAME` or `NAME@ZONE`.
+fn name_of(target: &str) -> &str {
+    target.split_once('@').map_or(target, |(n, _)| n.trim())
 }
 
 impl std::fmt::Display for Assignment {
@@ -138,11 +137,11 @@ mod tests {
     fn assignments_parse_and_say_what_is_wrong() {
         let a = Assignment::parse("f@top=0.25").expect("parses");
         assert_eq!((a.target.as_str(), a.value), ("f@top", 0.25));
-        assert_eq!(a.parameter(), Parameter::Friction);
+        assert_eq!(a.parameter().ok(), Some(Parameter::Friction));
         assert_eq!(a.to_string(), "f@top=0.25");
         assert_eq!(
-            Assignment::parse("gap=1e-5").expect("gap").parameter(),
-            Parameter::Gap
+            Assignment::parse("gap=1e-5").expect("gap").parameter().ok(),
+            Some(Parameter::Gap)
         );
         for (bad, says) in [
             ("f", "NAME=VALUE"),

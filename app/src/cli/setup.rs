@@ -11,7 +11,7 @@ use lopin_core::scene::admission::{Footprint, SolveShape};
 use lopin_core::scene::spec::SolverSpec;
 use lopin_core::scene::Overrides;
 use lopin_core::target::Assignment;
-use lopin_core::window_choice::{choose, Task, WindowChoice, WindowRequest};
+use lopin_core::window_choice::{Task, WindowChoice, WindowRequest};
 use lopin_core::{scene, LopinError, Parameter, Problem, Settings, Solver};
 
 fn parse_assignment(s: &str) -> Result<Assignment, String> {
@@ -55,36 +55,32 @@ impl SceneArgs {
     /// These options as the front door reads them ([`scene::Overrides`]); `--f` is checked
     /// here so that its error names it.
     pub fn overrides(&self) -> anyhow::Result<Overrides> {
-        let mut assignments = Vec::new();
         if let Some(f) = self.friction {
             Parameter::Friction.check(f).map_err(|e| match e {
                 LopinError::Setting { reason, .. } => anyhow::anyhow!("--f: {reason}"),
                 other => anyhow::Error::new(other),
             })?;
-            assignments.push(Assignment {
-                target: "f".into(),
-                value: f,
-            });
         }
-        assignments.extend(self.set.iter().cloned());
-        Ok(Overrides {
+        Ok(self.unchecked_overrides())
+    }
+
+    /// [`Self::overrides`] without the check of `--f`.
+    fn unchecked_overrides(&self) -> Overrides {
+        let friction = self.friction.map(|value| Assignment {
+            target: "f".into(),
+            value,
+        });
+        Overrides {
             refine: self.refine,
             split: self.split,
             solver: self.solver.clone(),
             window: self.window.unwrap_or_default(),
             task: self.task,
-            assignments,
-        })
-    }
-
-    /// The time windows of the solve and why ([`choose`]).
-    pub fn windows(&self, spec: &scene::SceneSpec) -> WindowChoice {
-        choose(
-            self.task,
-            self.window.unwrap_or_default(),
-            spec.solver.window,
-            spec.has_contact(),
-        )
+            assignments: friction
+                .into_iter()
+                .chain(self.set.iter().cloned())
+                .collect(),
+        }
     }
 
     /// These options for another task (a sweep's solves are a warm-started study).
@@ -95,14 +91,9 @@ impl SceneArgs {
         }
     }
 
-    /// How the solve will run, as far as memory is concerned: the options, else the scene's
-    /// `[solver]` table.
+    /// How the solve will run, as far as memory is concerned ([`Overrides::shape`]).
     pub fn shape(&self, spec: &scene::SceneSpec) -> SolveShape {
-        SolveShape {
-            window: self.windows(spec).window,
-            two_scale: self.solver.over(&spec.solver).two_scale.unwrap_or(false),
-            skip_unchanged: true,
-        }
+        self.unchecked_overrides().shape(spec)
     }
 }
 

@@ -80,12 +80,7 @@ impl<'de> Deserialize<'de> for Fingerprint {
 /// The scene and the parameter values set on its problem: its TOML text, and the values'
 /// JSON when there are any.
 pub fn of_scene(spec: &SceneSpec, assignments: &[Assignment]) -> Fingerprint {
-    let (toml, values) = (scene::to_toml(spec), json_bytes(&assignments));
-    let mut parts: Vec<(&str, &[u8])> = vec![("scene", toml.as_bytes())];
-    if !assignments.is_empty() {
-        parts.push(("assignments", values.as_slice()));
-    }
-    Fingerprint::of_parts(&parts)
+    of_identity(spec, assignments, None)
 }
 
 /// The LATIN settings: their JSON text.
@@ -96,16 +91,26 @@ pub fn of_settings(settings: &Settings) -> Fingerprint {
 /// What a run's `solution.bin` belongs to: the scene, the parameter values set on its problem
 /// (when there are any) and the settings.
 pub fn of_run(spec: &SceneSpec, assignments: &[Assignment], settings: &Settings) -> Fingerprint {
-    let (toml, values, settings) = (
-        scene::to_toml(spec),
-        json_bytes(&assignments),
-        json_bytes(settings),
-    );
+    of_identity(spec, assignments, Some(settings))
+}
+
+/// The parts of [`of_scene`] and [`of_run`]: the scene, the values when there are any, the
+/// settings when given.
+fn of_identity(
+    spec: &SceneSpec,
+    assignments: &[Assignment],
+    settings: Option<&Settings>,
+) -> Fingerprint {
+    let toml = scene::to_toml(spec);
+    let values = json_bytes(&assignments);
+    let settings = settings.map(json_bytes);
     let mut parts: Vec<(&str, &[u8])> = vec![("scene", toml.as_bytes())];
     if !assignments.is_empty() {
         parts.push(("assignments", values.as_slice()));
     }
-    parts.push(("settings", settings.as_slice()));
+    if let Some(s) = &settings {
+        parts.push(("settings", s.as_slice()));
+    }
     Fingerprint::of_parts(&parts)
 }
 

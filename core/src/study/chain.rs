@@ -30,11 +30,6 @@ impl Chain {
         }
     }
 
-    /// Its predictor.
-    pub fn predictor(&self) -> Predictor {
-        self.predictor
-    }
-
     /// Keeps the converged state of configuration `index` at scaled point `point` (in the
     /// order the chain solves them; a resumed chain is seeded with its finished ones).
     pub fn converged(&mut self, index: usize, point: &[f64], state: &InterfaceState) {

@@ -149,26 +149,22 @@ impl Predictor {
                 ..Start::default()
             };
         }
-        let near = store.nearest(point);
-        let mut start = Start {
-            from: near.map(|n| n.0),
-            distance: near.map(|n| n.1),
-            ..Start::default()
-        };
         match self {
             Self::Parallelogram => {
                 if let Some((j, k, l)) = store.parallelogram(point, 8) {
-                    start.state = store.combined(j, k, l);
-                    start.from = Some(j);
-                    start.change = Some((k, l));
-                    start.distance = store.distance_to(j, point);
-                    return start;
+                    return Start {
+                        state: store.combined(j, k, l),
+                        from: Some(j),
+                        change: Some((k, l)),
+                        distance: store.distance_to(j, point),
+                        ..Start::default()
+                    };
                 }
             }
             Self::Bracket => return Self::bracket_start(store, point),
             _ => {}
         }
-        start.state = start.from.and_then(|j| store.state(j));
+        let mut start = Self::nearest_start(store, point);
         if let (Self::Projection, Some(s0), Some(j0)) = (self, &start.state, start.from) {
             // (a study's solvers hold everything: chains, not substructures, go to the ranks)
             let others: Vec<_> = store
@@ -188,14 +184,8 @@ impl Predictor {
     /// interpolation of its two ends, else the nearest stored state (no local stage runs, so
     /// no solver is needed).
     pub fn bracket_start(store: &StateStore, point: &[f64]) -> Start {
-        let near = store.nearest(point);
         let Some(((j, lo), (k, hi))) = store.bracket(point, SAME) else {
-            return Start {
-                state: near.and_then(|(j, _)| store.state(j)),
-                from: near.map(|n| n.0),
-                distance: near.map(|n| n.1),
-                ..Start::default()
-            };
+            return Self::nearest_start(store, point);
         };
         let value = point[0];
         let from = if value - lo <= hi - value { j } else { k };
@@ -204,6 +194,17 @@ impl Predictor {
             from: Some(from),
             between: Some(((j, lo), (k, hi))),
             distance: store.distance_to(from, point),
+            ..Start::default()
+        }
+    }
+
+    /// The state of the nearest stored configuration (none when nothing is stored).
+    fn nearest_start(store: &StateStore, point: &[f64]) -> Start {
+        let near = store.nearest(point);
+        Start {
+            state: near.and_then(|(j, _)| store.state(j)),
+            from: near.map(|n| n.0),
+            distance: near.map(|n| n.1),
             ..Start::default()
         }
     }

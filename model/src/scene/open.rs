@@ -156,8 +156,8 @@ pub struct Admitted {
     pub source: String,
     /// The sizes and memory of the solve, counted before anything large is built.
     pub footprint: Footprint,
-    /// The bodies the scene lists or its generator expanded into.
-    expanded: SceneSpec,
+    /// The scene its generator table expanded into (None: the scene lists its bodies).
+    expanded: Option<SceneSpec>,
     overrides: Overrides,
 }
 
@@ -218,7 +218,8 @@ impl Admitted {
         let windows = self.overrides.windows(&self.spec);
         let layer = self.overrides.layer(&self.spec);
         let rho_inf = layer.rho_inf.unwrap_or(1.0);
-        let mut problem = build::build_expanded(&self.expanded, &self.source, rho_inf)?;
+        let listed = self.expanded.as_ref().unwrap_or(&self.spec);
+        let mut problem = build::build_expanded(listed, &self.source, rho_inf)?;
         let mut settings = Settings::for_problem(&problem, &layer);
         settings.window = windows.window;
         for a in &self.overrides.assignments {
@@ -245,13 +246,14 @@ pub fn check(spec: &SceneSpec, source: &str) -> Result<()> {
     expand_checked(spec, source, SolveShape::smallest()).map(|_| ())
 }
 
-/// The scene a description expands to, validated, and the footprint of a solve of `shape`:
-/// a generator table is checked and admitted before it is expanded.
+/// The scene a generator table expands to (None: the scene lists its bodies), validated, and
+/// the footprint of a solve of `shape`: a generator table is checked and admitted before it is
+/// expanded.
 fn expand_checked(
     spec: &SceneSpec,
     source: &str,
     shape: SolveShape,
-) -> Result<(SceneSpec, Footprint)> {
+) -> Result<(Option<SceneSpec>, Footprint)> {
     if spec.granular_poly.is_some() {
         if cfg!(not(feature = "msh")) {
             // nothing to mesh the sample with: refused before any grain is placed
@@ -265,18 +267,18 @@ fn expand_checked(
         let footprint = admission::admit(spec, source, shape)?;
         let expanded = granular_poly::expand_placed(spec, source, &grains)?;
         validate_expanded(&expanded, source, Generated::No)?;
-        return Ok((expanded, footprint));
+        return Ok((Some(expanded), footprint));
     }
     if spec.granular.is_some() {
         granular::validate(spec, source)?;
         let footprint = admission::admit(spec, source, shape)?;
         let expanded = granular::expand(spec, source)?;
         validate_expanded(&expanded, source, Generated::Yes).map_err(generated_field)?;
-        return Ok((expanded, footprint));
+        return Ok((Some(expanded), footprint));
     }
     validate_expanded(spec, source, Generated::No)?;
     let footprint = admission::admit(spec, source, shape)?;
-    Ok((spec.clone(), footprint))
+    Ok((None, footprint))
 }
 
 /// An error on a body, interface or boundary a `[granular]` table generated says so.
