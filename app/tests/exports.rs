@@ -9,7 +9,7 @@ mod readers;
 
 use lopin_app::record::entity_name;
 use lopin_core::elements::hex8;
-use lopin_core::window_choice::{choose, Task, WindowRequest};
+use lopin_core::window_choice::{choose, Task};
 use lopin_core::{post, scene, Settings, Solver};
 use readers::{free_port, lopin, read_rrd, read_vtu, scratch};
 
@@ -19,14 +19,7 @@ fn reference() -> (Solver, Vec<Vec<post::SubFields>>) {
     let problem = scene::problem_of(&spec, "two-blocks").expect("builds");
     let mut settings = Settings::for_problem(&problem, &spec.solver);
     // the windows `lopin run` chooses for one cold solve
-    let contact = spec.has_contact();
-    settings.window = choose(
-        Task::Single,
-        WindowRequest::Auto,
-        spec.solver.window,
-        contact,
-    )
-    .window;
+    settings.window = choose(Task::Single, None, spec.solver.window, spec.has_contact()).window;
     let mut solver = Solver::new(problem, settings).expect("factorizes");
     let sol = solver.solve(None).expect("solves");
     let history = post::history(&solver, &sol);

@@ -1,7 +1,9 @@
 //! `lopin study` from the command line: a study killed with SIGKILL after a few
 //! configurations and resumed keeps every finished row byte for byte, solves the rest, and ends
-//! with the same configurations and quantities (to the tolerance's reach: a resumed chain restarts
-//! cold) as an uninterrupted study, with its figures and `study.parquet` (the CSV's rows, typed); the rows a killed distributed study left
+//! with the same configurations, starts, iterations and quantities (to 1e-9: the resumed chain
+//! starts from the kept configurations' converged states) as an uninterrupted study, with its
+//! figures and `study.parquet` (the CSV's rows, typed); a resume whose kept state is damaged
+//! names the file and goes on without it; the rows a killed distributed study left
 //! in a rank's folder are taken in by the resume; a study over two zones of a Gmsh scene (its
 //! contact face's physical surfaces) writes a column per zone; bad input is refused with a
 //! message naming the option and the reason, before anything is written.
@@ -43,6 +45,11 @@ fn rows(dir: &Path) -> Vec<(usize, String)> {
         .collect();
     out.sort();
     out
+}
+
+fn field<'a>(line: &'a str, header: &str, name: &str) -> &'a str {
+    let k = header.split(',').position(|h| h == name).expect(name);
+    line.split(',').nth(k).expect("test value")
 }
 
 fn column(line: &str, header: &str, name: &str) -> f64 {
@@ -146,14 +153,63 @@ fn a_killed_study_resumes_without_losing_a_row() {
     let header = header.lines().next().expect("test value").to_string();
     for ((i, a), (j, b)) in rows(&full).iter().zip(&after) {
         assert_eq!(i, j);
+        for q in ["start", "iterations"] {
+            assert_eq!(
+                field(a, &header, q),
+                field(b, &header, q),
+                "configuration {i} {q}"
+            );
+        }
         for q in ["peak_normal_force", "energy_end", "input_work"] {
             let (x, y) = (column(a, &header, q), column(b, &header, q));
             assert!(
-                (x - y).abs() <= 1e-2 * x.abs(),
+                (x - y).abs() <= 1e-9 * x.abs(),
                 "configuration {i} {q}: {x} vs {y}"
             );
         }
     }
+
+    // the states: one per configuration; a damaged one is named, and the chain goes on from
+    // another (every configuration still solved and converged)
+    let states = part.join("states");
+    assert_eq!(std::fs::read_dir(&states).expect("states").count(), 8);
+    let damaged = scratch("study", "damaged-state");
+    std::fs::create_dir_all(damaged.join("states")).expect("mkdir");
+    let first: Vec<String> = std::fs::read_to_string(part.join("study.csv"))
+        .expect("csv")
+        .lines()
+        .take(3)
+        .map(str::to_string)
+        .collect();
+    std::fs::write(damaged.join("study.csv"), first.join("\n") + "\n").expect("csv");
+    std::fs::copy(part.join("study.json"), damaged.join("study.json")).expect("json");
+    let kept_index: Vec<usize> = first[1..]
+        .iter()
+        .map(|l| l.split(',').next().expect("index").parse().expect("index"))
+        .collect();
+    for &i in &kept_index {
+        let name = format!("config-{i:04}.state");
+        std::fs::copy(states.join(&name), damaged.join("states").join(&name)).expect("copy");
+    }
+    let bad = damaged
+        .join("states")
+        .join(format!("config-{:04}.state", kept_index[1]));
+    let mut bytes = std::fs::read(&bad).expect("state");
+    let middle = bytes.len() / 2;
+    bytes[middle] ^= 0x10;
+    std::fs::write(&bad, bytes).expect("write");
+    let out = succeeds(lopin().args(ARGS).args(["--resume", "--out"]).arg(&damaged));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains(&bad.display().to_string())
+            && stderr.contains(&format!("configuration {} is kept", kept_index[1])),
+        "{stderr}"
+    );
+    let resumed = rows(&damaged);
+    assert_eq!(resumed.len(), 8);
+    assert!(resumed
+        .iter()
+        .all(|(_, l)| field(l, &header, "converged") == "true"));
 
     // a distributed study killed mid-way leaves rank 1's rows in rank-1/: a resume takes them in
     // (solving none of them again: every row comes back byte for byte) and removes the folder

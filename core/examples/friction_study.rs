@@ -10,7 +10,10 @@ use lopin_core::{post, scene, Parameter, Solver};
 fn main() -> lopin_core::Result<()> {
     // every solve over the whole interval, each restarting from the previous one's
     let whole = scene::Overrides {
-        window: WindowRequest::Whole,
+        solver: scene::spec::SolverSpec {
+            window: Some(WindowRequest::Whole),
+            ..Default::default()
+        },
         ..Default::default()
     };
     let opened = scene::open("two-blocks", &whole)?;

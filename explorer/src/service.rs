@@ -20,11 +20,11 @@ use crate::protocol::{
     DisplayStep, Event, ProbeHistory, Request, SolveReport, StoredConfig, StudyControl,
 };
 use crate::recorder::{RecordedSolve, RecorderSlot};
-use crate::study::{self, Library};
+use crate::study::{self, Library, StoredStart};
 use lopin_core::counters::{Instant, IterationRecord};
 use lopin_core::post;
 use lopin_core::study::Quantities;
-use lopin_core::{Control, InterfaceState, Problem, Solution, SolveRun, Solver};
+use lopin_core::{Control, Problem, Solution, SolveRun, Solver};
 use std::sync::mpsc::Sender;
 use std::sync::Arc;
 use std::time::Duration;
@@ -54,10 +54,6 @@ struct Running {
     last_live: Instant,
     iterations: Vec<IterationRecord>,
 }
-
-/// A start from the library: the state, the friction value it is (the nearer of two) and, for
-/// an interpolation, the two values it lies between.
-type StoredStart = (InterfaceState, f64, Option<(f64, f64)>);
 
 /// The newest solution the user asked for.
 struct Current {
@@ -361,29 +357,11 @@ impl Service {
             return;
         }
         self.applied = params.clone();
-        let gap = |v: Option<f64>| match (v, params.friction) {
-            (Some(a), Some(b)) => (a - b).abs(),
-            _ => f64::INFINITY,
-        };
         let newest = self.current.as_ref();
-        let newest_gap = newest.map_or(f64::INFINITY, |c| gap(c.params.friction));
-        let bracket = params.friction.and_then(|v| self.library.bracket(v));
-        let nearest = params.friction.and_then(|v| self.library.nearest(v));
-        let stored: Option<StoredStart> = match (bracket, nearest) {
-            (Some(((_, lo), (_, hi))), _) if gap(Some(lo)).min(gap(Some(hi))) <= newest_gap => {
-                let near = if gap(Some(lo)) <= gap(Some(hi)) {
-                    lo
-                } else {
-                    hi
-                };
-                // the state is interpolated only once it is chosen
-                let between = params.friction.and_then(|v| self.library.between(v));
-                between.map(|(s, b)| (s, near, Some(b)))
-            }
-            (_, Some((_, v))) if gap(Some(v)) >= newest_gap => None,
-            (_, Some((i, v))) => self.library.state(i).map(|s| (s, v, None)),
-            (_, None) => None,
-        };
+        let held = newest.and_then(|c| c.params.friction);
+        let stored: Option<StoredStart> = params
+            .friction
+            .and_then(|v| self.library.start_beside(v, held));
         let (state, start, between) = match &stored {
             Some((s, v, b)) => (Some(s), Some(*v), *b),
             None => (

@@ -4,7 +4,8 @@
 //! the library of converged configurations: their interface states s and solutions ŝ in f32
 //! ([`StateStore`]), iterations and quantities of interest, from which a configuration is shown
 //! again without solving or warm-started by the study engine's predictor (between two stored
-//! ones, their interpolation, [`Predictor::Bracket`]; else the nearest). Every stored
+//! ones, their interpolation, [`Predictor::Bracket`]; else the nearest; beside the newest
+//! solve's state, [`Predictor::bracket_start_beside`] decides which is nearer). Every stored
 //! configuration shares the other parameters (the library's base); a change of any of them
 //! empties it.
 
@@ -37,6 +38,10 @@ pub fn base(params: &Params) -> Params {
         ..params.clone()
     }
 }
+
+/// A start from the library: the state, the friction value it is (the nearer of two) and, for
+/// an interpolation, the two values it lies between.
+pub type StoredStart = (InterfaceState, f64, Option<(f64, f64)>);
 
 /// What is kept of one converged configuration besides its states.
 #[derive(Debug, Clone, PartialEq)]
@@ -107,26 +112,22 @@ impl Library {
             .position(|e| (e.value - value).abs() < SAME)
     }
 
-    /// The stored configuration nearest `value`: (its index, its value).
-    pub fn nearest(&self, value: f64) -> Option<(usize, f64)> {
-        let (index, _) = self.states.store().nearest(&[value])?;
-        Some((index, self.entries[index].value))
-    }
-
-    /// The stored configurations nearest `value` below and above it, (index, value) each; None
-    /// unless `value` lies strictly between two stored ones ([`StateStore::bracket`]).
-    pub fn bracket(&self, value: f64) -> Option<((usize, f64), (usize, f64))> {
-        self.states.store().bracket(&[value], SAME)
-    }
-
-    /// A warm start for `value` between two stored configurations, with the bracket's two
-    /// values: the study engine's [`Predictor::Bracket`] (their states interpolated linearly in
-    /// the friction coefficient, admissible as each is; METHOD §8). Friction enters only the
-    /// interface laws, so the interpolation is closer than either end.
-    pub fn between(&self, value: f64) -> Option<(InterfaceState, (f64, f64))> {
-        let start = Predictor::bracket_start(self.states.store(), &[value]);
-        let ((_, lo), (_, hi)) = start.between?;
-        Some((start.state?, (lo, hi)))
+    /// The warm start of `value` from the stored configurations, beside the newest solve's
+    /// state at `held`: the study engine's [`Predictor::bracket_start_beside`] (between two
+    /// stored ones their states interpolated linearly in the friction coefficient, admissible
+    /// as each is, METHOD §8; else the nearest stored one where it is nearer than the newest).
+    /// Returns the state, the value of the stored configuration it starts nearest to and the
+    /// bracket's two values; None: start from the newest solve's state.
+    pub fn start_beside(&self, value: f64, held: Option<f64>) -> Option<StoredStart> {
+        let held = held.map(|h| [h]);
+        let start = Predictor::bracket_start_beside(
+            self.states.store(),
+            &[value],
+            held.as_ref().map(|h| &h[..]),
+        )?;
+        let near = self.entries.get(start.from?)?.value;
+        let between = start.between.map(|((_, lo), (_, hi))| (lo, hi));
+        Some((start.state?, near, between))
     }
 
     /// Keeps a converged configuration (replacing one at the same value); returns its index.
@@ -159,11 +160,6 @@ impl Library {
         self.hats.insert(index, &[value], &hats);
         self.entries.push(entry);
         index
-    }
-
-    /// The interface state of configuration `index` (a warm start), in f64.
-    pub fn state(&self, index: usize) -> Option<InterfaceState> {
-        self.states.store().state(index)
     }
 
     /// Configuration `index` as a converged solution (its s and ŝ back from f32): enough to

@@ -12,8 +12,11 @@
 //! use lopin_reference::monolithic::Monolithic;
 //!
 //! let tight = Overrides {
-//!     solver: SolverSpec { tol: Some(1e-6), ..Default::default() },
-//!     window: WindowRequest::Whole,
+//!     solver: SolverSpec {
+//!         tol: Some(1e-6),
+//!         window: Some(WindowRequest::Whole),
+//!         ..Default::default()
+//!     },
 //!     ..Default::default()
 //! };
 //! let opened = scene::open("two-blocks", &tight)?;

@@ -97,7 +97,7 @@ impl Settings {
             mu: spec.mu.unwrap_or(0.8),
             tol: spec.tol.unwrap_or(1e-3),
             max_iter: spec.max_iter.unwrap_or(Self::MAX_ITER),
-            window: spec.window,
+            window: spec.window.and_then(|w| w.steps()),
             skip_unchanged: true,
             window_start: spec.window_start.unwrap_or_default(),
             per_step_window_norm: true,

@@ -77,8 +77,8 @@ fn solve_design(
             compare_cold: false,
             predictor,
         },
-        &|_| false,
-        &|o| {
+        runner::Resumed::nothing(),
+        &|o, _| {
             out.lock().expect("lock").push(o);
             Ok(())
         },

@@ -81,7 +81,7 @@ pub fn field_errors(c: &Comparison) -> [(&'static str, f64); 6] {
 
 pub fn accuracy(args: &AccuracyArgs) -> anyhow::Result<ExitCode> {
     anyhow::ensure!(
-        args.scene.solver.tol.is_none() && args.scene.window.is_none(),
+        args.scene.solver.tol.is_none() && args.scene.solver.window.is_none(),
         "lopin accuracy sets the tolerance and the window itself: remove --tol / --window"
     );
     anyhow::ensure!(!args.tols.is_empty(), "--tols: give at least one tolerance");

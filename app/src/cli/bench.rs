@@ -47,11 +47,11 @@ pub fn bench(args: &BenchArgs) -> anyhow::Result<ExitCode> {
             solver: SolverSpec {
                 tol: Some(1e-300),
                 max_iter: Some(args.iterations),
+                window: Some(WindowRequest::Whole),
                 ..SolverSpec::default()
             },
             refine,
             split: 1,
-            window: Some(WindowRequest::Whole),
             task: Task::Single,
         };
         let mut prepared = prepare(&sargs)?;

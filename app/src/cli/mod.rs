@@ -22,7 +22,6 @@ mod shell;
 mod stress;
 mod study;
 mod sweep;
-mod sweep_store;
 mod view;
 
 use clap::{Parser, Subcommand};

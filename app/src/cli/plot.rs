@@ -9,7 +9,7 @@ use lopin_core::Parameter;
 use plotters::prelude::*;
 use plotters::style::{register_font, FontStyle};
 
-use super::sweep_store::ValueRecord;
+use super::sweep::records::ValueRecord;
 
 static FONT: &[u8] = include_bytes!("../../../assets/fonts/DejaVuSans.ttf");
 

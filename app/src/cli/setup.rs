@@ -11,7 +11,7 @@ use lopin_core::scene::admission::{Footprint, SolveShape};
 use lopin_core::scene::spec::SolverSpec;
 use lopin_core::scene::Overrides;
 use lopin_core::target::Assignment;
-use lopin_core::window_choice::{Task, WindowChoice, WindowRequest};
+use lopin_core::window_choice::{Task, WindowChoice};
 use lopin_core::{scene, LopinError, Parameter, Problem, Settings, Solver};
 
 fn parse_assignment(s: &str) -> Result<Assignment, String> {
@@ -40,12 +40,6 @@ pub struct SceneArgs {
     /// Multiply the number of substructures per body by N (along the scene's split axes).
     #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     pub split: usize,
-    /// Time windows: a length in steps (1 = incremental), `whole` (the whole interval) or `auto`
-    /// (the default: the scene's `solver.window`, else chosen for the command: one-step windows
-    /// for one solve or a study of a scene with contact, the whole interval without contact;
-    /// the report says which).
-    #[arg(long, allow_negative_numbers = true, value_parser = WindowRequest::parse)]
-    pub window: Option<WindowRequest>,
     /// What the solve is for (set by the command, not an option).
     #[arg(skip)]
     pub task: Task,
@@ -74,7 +68,6 @@ impl SceneArgs {
             refine: self.refine,
             split: self.split,
             solver: self.solver.clone(),
-            window: self.window.unwrap_or_default(),
             task: self.task,
             assignments: friction
                 .into_iter()

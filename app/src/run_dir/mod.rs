@@ -2,11 +2,13 @@
 //! reads back is intact and belongs there: `run.json` (how it was made, [`run_json`]), the
 //! binary interface fields with their fingerprint and checksum ([`solution_file`]), the
 //! fingerprint of what a file belongs to and the crc32 checksums ([`fingerprint`]), and JSON
-//! files that carry their own checksum ([`checked_json`], the sweep's header and records).
+//! files that carry their own checksum ([`checked_json`], the sweep's header and records), and
+//! the converged states a sweep or study resumes from ([`saved_states`]).
 
 pub mod checked_json;
 pub mod fingerprint;
 pub mod run_json;
+pub mod saved_states;
 pub mod solution_file;
 
 use anyhow::Context;

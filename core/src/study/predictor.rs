@@ -15,6 +15,7 @@
 use crate::error::{LopinError, Result};
 use crate::solver::Solver;
 use crate::state::InterfaceState;
+use crate::study::path::distance;
 use crate::study::{projection, StateStore};
 
 /// How the start state of the next configuration is built.
@@ -196,6 +197,27 @@ impl Predictor {
             distance: store.distance_to(from, point),
             ..Start::default()
         }
+    }
+
+    /// The start of [`Predictor::Bracket`] beside a converged state the caller holds outside
+    /// the store, at `held` (the explorer's newest solve): the bracket's interpolation where its
+    /// nearer end is at least as near `point` as `held`, else the nearest stored state where it
+    /// is strictly nearer; None where the held state is the nearest start (or nothing is
+    /// stored).
+    pub fn bracket_start_beside(
+        store: &StateStore,
+        point: &[f64],
+        held: Option<&[f64]>,
+    ) -> Option<Start> {
+        let held_gap = held.map_or(f64::INFINITY, |h| distance(h, point));
+        if let Some(((_, lo), (_, hi))) = store.bracket(point, SAME) {
+            let value = point[0];
+            if (value - lo).min(hi - value) <= held_gap {
+                return Some(Self::bracket_start(store, point));
+            }
+        }
+        let (_, gap) = store.nearest(point)?;
+        (gap < held_gap).then(|| Self::nearest_start(store, point))
     }
 
     /// The state of the nearest stored configuration (none when nothing is stored).
@@ -381,5 +403,36 @@ mod tests {
         let chain = [(0.1, &want)];
         let previous = Predictor::Previous.start(&chain, &store, &[0.5], &solver);
         assert_eq!(previous.state.as_ref(), Some(&want));
+    }
+
+    /// Beside a held state: the bracket wins a tie with it, the nearest stored state only when
+    /// strictly nearer, and the held state otherwise.
+    #[test]
+    fn beside_a_held_state_the_store_starts_only_where_it_is_nearer() {
+        let state = |x: f64| InterfaceState {
+            steps: 1,
+            subs: vec![TraceHistory {
+                len: 1,
+                f: vec![0.0, x],
+                w: vec![0.0, x],
+            }],
+        };
+        let mut store = StateStore::default();
+        assert_eq!(Predictor::bracket_start_beside(&store, &[0.2], None), None);
+        store.insert(0, &[0.1], &state(0.1));
+        store.insert(1, &[0.3], &state(0.3));
+        let beside = |point: f64, held: Option<f64>| {
+            let h = held.map(|h| [h]);
+            Predictor::bracket_start_beside(&store, &[point], h.as_ref().map(|h| &h[..]))
+        };
+        // inside the bracket, its nearer end (0.1, 0.05 away) against a held state 0.05 away
+        let tie = beside(0.15, Some(0.2)).expect("the bracket");
+        assert_eq!(tie.between, Some(((0, 0.1), (1, 0.3))));
+        assert_eq!(beside(0.15, Some(0.16)), None);
+        // outside: the nearest stored (0.3, 0.1 away) only when strictly nearer than the held
+        let outside = beside(0.4, Some(0.6)).expect("the nearest");
+        assert_eq!((outside.from, outside.between), (Some(1), None));
+        assert_eq!(beside(0.4, Some(0.5)), None);
+        assert_eq!(beside(0.4, None).and_then(|s| s.from), Some(1));
     }
 }

@@ -1,9 +1,11 @@
 //! Runs a study: its chains at once on threads, each with its own solver (one factorization per
 //! chain, METHOD §4), each configuration warm-started as its [`Predictor`] says from what its
 //! chain has solved (METHOD §8), or cold at a chain's start; every finished
-//! configuration handed to the caller at once (files are the caller's, so a stopped study keeps
-//! every finished configuration). A failure stops the other chains after their current
-//! configuration.
+//! configuration handed to the caller at once with its converged state (files are the
+//! caller's, so a stopped study keeps every finished configuration); a resumed study's chains
+//! seeded with the states the caller kept of their finished configurations ([`Resumed`]), so
+//! the rest start where they would have without the stop. A failure stops the other chains
+//! after their current configuration.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Mutex;
@@ -11,6 +13,7 @@ use std::sync::Mutex;
 use crate::counters::{Instant, IterationRecord};
 use crate::error::Result;
 use crate::solver::{Control, Solution, Solver};
+use crate::state::InterfaceState;
 use crate::study::{path::scaled, Chain, Chains, Design, Predictor, Quantities, Start};
 
 /// One solved configuration.
@@ -53,16 +56,37 @@ pub struct RunOptions {
     pub predictor: Predictor,
 }
 
-/// Runs `chains` of `design`: `make_solver` builds one solver per chain; `done(i)` says that
-/// configuration i is finished already (a resumed study); `finished` receives every outcome as it
-/// is solved. Returns the store's bytes per chain (the memory of the kept states).
+/// What a resumed study holds already.
+#[derive(Clone, Copy)]
+pub struct Resumed<'a> {
+    /// Whether configuration i is finished.
+    pub done: &'a (dyn Fn(usize) -> bool + Sync),
+    /// The converged state of finished configuration i, where the caller kept it (None: its
+    /// chain goes on without it).
+    pub state: &'a (dyn Fn(usize) -> Option<InterfaceState> + Sync),
+}
+
+impl Resumed<'static> {
+    /// A study started afresh.
+    pub fn nothing() -> Self {
+        Resumed {
+            done: &|_| false,
+            state: &|_| None,
+        }
+    }
+}
+
+/// Runs `chains` of `design`: `make_solver` builds one solver per chain; `resumed` says which
+/// configurations are finished already and gives their states; `finished` receives every
+/// outcome as it is solved, with its converged state. Returns the store's bytes per chain (the
+/// memory of the kept states).
 pub fn run(
     make_solver: &(dyn Fn() -> Result<Solver> + Sync),
     design: &Design,
     chains: &Chains,
     options: RunOptions,
-    done: &(dyn Fn(usize) -> bool + Sync),
-    finished: &(dyn Fn(Outcome) -> Result<()> + Sync),
+    resumed: Resumed<'_>,
+    finished: &(dyn Fn(Outcome, &InterfaceState) -> Result<()> + Sync),
 ) -> Result<Vec<usize>> {
     let points = scaled(&design.points);
     let stop = AtomicBool::new(false);
@@ -82,7 +106,7 @@ pub fn run(
                         c,
                         chain,
                         options,
-                        done,
+                        resumed,
                         finished,
                         stop,
                     );
@@ -114,15 +138,23 @@ fn run_chain(
     c: usize,
     chain: &[usize],
     options: RunOptions,
-    done: &(dyn Fn(usize) -> bool + Sync),
-    finished: &(dyn Fn(Outcome) -> Result<()> + Sync),
+    resumed: Resumed<'_>,
+    finished: &(dyn Fn(Outcome, &InterfaceState) -> Result<()> + Sync),
     stop: &AtomicBool,
 ) -> Result<usize> {
+    let done = resumed.done;
     if chain.iter().all(|&i| done(i)) {
         return Ok(0);
     }
     let mut solver = make_solver()?;
     let mut kept = Chain::new(options.predictor);
+    if !options.cold {
+        for &i in chain.iter().filter(|&&i| done(i)) {
+            if let Some(state) = (resumed.state)(i) {
+                kept.converged(i, &points[i], &state);
+            }
+        }
+    }
     let visit = Visit {
         design,
         points,
@@ -143,21 +175,24 @@ fn run_chain(
                 None
             };
             let sol = &solved.solution;
-            finished(Outcome {
-                index: solved.index,
-                chain: c,
-                position: solved.position,
-                start: solved.start.from,
-                start_change: solved.start.change,
-                start_residual: solved.start.residual,
-                start_distance: solved.start.distance,
-                iterations: sol.iterations,
-                eta: sol.eta,
-                converged: sol.converged,
-                wall_s: solved.wall_s,
-                quantities,
-                cold_iterations,
-            })
+            finished(
+                Outcome {
+                    index: solved.index,
+                    chain: c,
+                    position: solved.position,
+                    start: solved.start.from,
+                    start_change: solved.start.change,
+                    start_residual: solved.start.residual,
+                    start_distance: solved.start.distance,
+                    iterations: sol.iterations,
+                    eta: sol.eta,
+                    converged: sol.converged,
+                    wall_s: solved.wall_s,
+                    quantities,
+                    cold_iterations,
+                },
+                &sol.state,
+            )
         },
         &|failure| failure.error,
     )?;

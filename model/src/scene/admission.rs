@@ -45,7 +45,7 @@ impl SolveShape {
     /// The shape a scene asks for in its `[solver]` table (skip cache on).
     pub fn of_scene(spec: &SceneSpec) -> Self {
         Self {
-            window: spec.solver.window,
+            window: spec.solver.window.and_then(|w| w.steps()),
             two_scale: spec.solver.two_scale.unwrap_or(false),
             skip_unchanged: true,
         }

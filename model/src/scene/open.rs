@@ -20,7 +20,7 @@ use crate::scene::{build, granular, granular_poly};
 use crate::scene::{reading, registry};
 use crate::settings::Settings;
 use crate::target::Assignment;
-use crate::window_choice::{choose, Task, WindowChoice, WindowRequest};
+use crate::window_choice::{choose, Task, WindowChoice};
 
 /// Where a scene comes from.
 #[derive(Debug, Clone)]
@@ -91,9 +91,6 @@ pub struct Overrides {
     pub split: usize,
     /// The settings layer over the scene's `[solver]` table.
     pub solver: SolverSpec,
-    /// The time windows asked for (the layer's `window` is not read: this says it, with
-    /// `whole` and `auto`).
-    pub window: WindowRequest,
     /// What the solve is for, which picks the windows when nobody asked.
     pub task: Task,
     /// Parameter values set on the built problem, in order.
@@ -106,7 +103,6 @@ impl Default for Overrides {
             refine: 1,
             split: 1,
             solver: SolverSpec::default(),
-            window: WindowRequest::Auto,
             task: Task::Single,
             assignments: Vec::new(),
         }
@@ -131,7 +127,7 @@ impl Overrides {
     pub fn windows(&self, spec: &SceneSpec) -> WindowChoice {
         choose(
             self.task,
-            self.window,
+            self.solver.window,
             spec.solver.window,
             spec.has_contact(),
         )
@@ -361,6 +357,7 @@ mod tests {
     use super::*;
     use crate::parameter::Parameter;
     use crate::scene::registry;
+    use crate::window_choice::WindowRequest;
 
     /// The one precedence rule: the defaults of METHOD §10, under the scene's `[solver]` table,
     /// under the overrides; ρ∞ reaches the problem's scheme, and the windows follow the task
@@ -390,9 +387,9 @@ mod tests {
             solver: SolverSpec {
                 mu: Some(0.9),
                 rho_inf: Some(0.6),
+                window: Some(WindowRequest::Whole),
                 ..SolverSpec::default()
             },
-            window: WindowRequest::Whole,
             ..Overrides::default()
         };
         let both = open(spec, &over).expect("opens");

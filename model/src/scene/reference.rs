@@ -133,7 +133,7 @@ const RULES: &[Rule] = &[
     Rule {
         key: "solver.window",
         unit: "steps",
-        range: "≥ 1",
+        range: "≥ 1, or `\"whole\"` (the whole interval) or `\"auto\"`",
         outside: out(Boxes, "solver.window", "0"),
         inside: out(Boxes, "solver.window", "1"),
     },
@@ -723,6 +723,14 @@ fn kind(prop: &Value, defs: &Value) -> String {
             .map(|s| format!("`{s}`"))
             .collect();
         return format!("one of {}", names.join(", "));
+    }
+    if let Some(variants) = target.get("anyOf").and_then(Value::as_array) {
+        let kinds: Vec<String> = variants
+            .iter()
+            .filter(|v| v.get("type").and_then(Value::as_str) != Some("null"))
+            .map(|v| kind(v, defs))
+            .collect();
+        return kinds.join(" or ");
     }
     if let Some(names) = target.get("enum").and_then(Value::as_array) {
         let names: Vec<String> = names

@@ -94,11 +94,17 @@ pub struct SolverSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[cfg_attr(feature = "cli", arg(long, allow_negative_numbers = true))]
     pub max_iter: Option<usize>,
-    /// Time-window length in steps (absent: chosen for what the run is for, which the report
-    /// says).
+    /// Time windows: a length in steps (1 = incremental), `whole` (the whole interval) or
+    /// `auto` (the default: the scene's `solver.window`, else chosen for what the run is for:
+    /// one-step windows for one solve or a study of a scene with contact, the whole interval
+    /// without contact and in the explorer; the report says which).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    #[cfg_attr(feature = "cli", arg(skip))]
-    pub window: Option<usize>,
+    #[cfg_attr(
+        feature = "schema",
+        schemars(with = "Option<crate::window_choice::WindowValue>")
+    )]
+    #[cfg_attr(feature = "cli", arg(long, allow_negative_numbers = true, value_parser = crate::window_choice::WindowRequest::parse))]
+    pub window: Option<crate::window_choice::WindowRequest>,
     /// Spectral radius at infinite frequency of the time scheme in [0, 1]: 1 is the undamped
     /// trapezoidal rule, smaller damps the highest frequencies (METHOD §2; default 1).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -141,7 +147,10 @@ impl SolverSpec {
             mu: self.mu.or(lower.mu),
             k: self.k.or(lower.k),
             max_iter: self.max_iter.or(lower.max_iter),
-            window: self.window.or(lower.window),
+            window: match self.window {
+                None | Some(crate::window_choice::WindowRequest::Auto) => lower.window,
+                asked => asked,
+            },
             rho_inf: self.rho_inf.or(lower.rho_inf),
             directions: self.directions.or(lower.directions),
             stop: self.stop.or(lower.stop),

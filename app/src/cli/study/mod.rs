@@ -4,12 +4,14 @@
 //! nearest-neighbour path cut into `--chains` chains that run at once, each configuration
 //! warm-started from the nearest one its chain solved. A parameter is given once, and either
 //! everywhere or per zone (`f` with `f@ZONE` is refused: one would overwrite the other). Every
-//! finished configuration is one row of `study.csv` at once, with its checksum ([`rows`]);
+//! finished configuration is one row of `study.csv` at once, with its checksum ([`rows`]), its
+//! converged state written just before in `states/` (the sweep's [`SavedStates`]);
 //! `--resume` keeps every row that passes its checks, says which rows it drops and why, and
-//! solves the rest; `study.json` holds the plan (parameters, design, order) and the totals,
-//! with the statistics of every quantity ([`stats`]: a quantity that is not finite somewhere is
-//! counted and named, and a warning printed); at the end the rows are also written typed to
-//! `study.parquet` ([`parquet_rows`]).
+//! solves the rest, each chain seeded with the states of its kept configurations, so the rest
+//! start as they would have without the stop; `study.json` holds the plan (parameters, design,
+//! order) and the totals, with the statistics of every quantity ([`stats`]: a quantity that is
+//! not finite somewhere is counted and named, and a warning printed); at the end the rows are
+//! also written typed to `study.parquet` ([`parquet_rows`]).
 //!
 //! Under `mpirun -np P` ([`crate::ranks`]) the chains are dealt to the ranks (chain c on rank
 //! c mod P, one chain per rank by default), each rank solving its own on threads with solvers of
@@ -29,7 +31,8 @@ use std::sync::Mutex;
 use anyhow::Context;
 use clap::Args;
 use lopin_core::counters::Instant;
-use lopin_core::study::runner::{self, Outcome, RunOptions};
+use lopin_core::state::InterfaceState;
+use lopin_core::study::runner::{self, Outcome, Resumed, RunOptions};
 use lopin_core::study::Predictor;
 use lopin_core::study::{Chains, Design, Path, Sampling, Spread, Target};
 use lopin_core::window_choice::Task;
@@ -37,6 +40,8 @@ use lopin_core::Solver;
 use serde::Serialize;
 
 use super::setup::{build, SceneArgs};
+use crate::run_dir::fingerprint;
+use crate::run_dir::saved_states::SavedStates;
 use rows::Rows;
 
 /// Options of `lopin study`.
@@ -79,9 +84,15 @@ pub struct StudyArgs {
     /// Directory of study.csv and study.json (default out/study-SCENE).
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Keep the rows of the study in --out and solve the configurations it lacks.
+    /// Keep the rows of the study in --out and solve the configurations it lacks, each chain
+    /// starting from the converged states of its finished configurations.
     #[arg(long)]
     pub resume: bool,
+    /// Keep no converged states in --out/states (by default one file per configuration, the
+    /// size of its interface fields): a --resume then starts each chain's remaining
+    /// configurations cold.
+    #[arg(long)]
+    pub no_states: bool,
     /// Print one JSON object on stdout instead of the summary.
     #[arg(long)]
     pub json: bool,
@@ -300,6 +311,29 @@ fn setup(args: &StudyArgs, ranks: usize) -> anyhow::Result<Setup> {
     })
 }
 
+/// Folder of a study's converged states, one file per configuration.
+pub const STATES_DIR: &str = "states";
+
+/// The file of configuration `i`'s converged state in [`STATES_DIR`].
+pub fn state_name(i: usize) -> String {
+    format!("{STATES_DIR}/config-{i:04}.state")
+}
+
+/// The converged states of the study `plan` in `dir`, written where `keep` (every rank writes
+/// its own chains').
+fn saved_states(dir: &std::path::Path, plan: &Plan, keep: bool) -> anyhow::Result<SavedStates> {
+    if keep {
+        let states = dir.join(STATES_DIR);
+        std::fs::create_dir_all(&states)
+            .with_context(|| format!("creating {}", states.display()))?;
+    }
+    Ok(SavedStates::new(
+        dir,
+        fingerprint::of_json("study plan", plan),
+        keep,
+    ))
+}
+
 pub fn study(args: &StudyArgs) -> anyhow::Result<ExitCode> {
     let start = Instant::now();
     let world = crate::ranks::current();
@@ -366,11 +400,14 @@ pub fn study(args: &StudyArgs) -> anyhow::Result<ExitCode> {
         );
     }
     let make = || Solver::new(problem.clone(), settings);
+    let states = saved_states(&dir, &plan, !args.no_states)?;
     let write_error: Mutex<Option<anyhow::Error>> = Mutex::new(None);
-    let finished = |mut o: Outcome| -> lopin_core::Result<()> {
+    let finished = |mut o: Outcome, state: &InterfaceState| -> lopin_core::Result<()> {
         o.chain = mine[o.chain];
+        // the state first: a row is the configuration's commit point
+        let saved = states.save(&state_name(o.index), state).map(drop);
         let mut r = rows.lock().unwrap_or_else(|p| p.into_inner());
-        if let Err(e) = r.append(&design, &o) {
+        if let Err(e) = saved.and_then(|()| r.append(&design, &o)) {
             let msg = format!("{e:#}");
             *write_error.lock().unwrap_or_else(|p| p.into_inner()) = Some(e);
             return Err(lopin_core::LopinError::setting("out", msg));
@@ -406,7 +443,28 @@ pub fn study(args: &StudyArgs) -> anyhow::Result<ExitCode> {
         compare_cold: args.compare_cold,
         predictor,
     };
-    let result = runner::run(&make, &design, &my_chains, options, &|i| done[i], &finished);
+    let resumed_state = |i: usize| {
+        if args.no_states {
+            return None;
+        }
+        match states.load(&state_name(i), None, &problem) {
+            Ok(state) => Some(state),
+            Err(u) => {
+                eprintln!(
+                    "{}: {}: configuration {i} is kept, the configurations after it start from \
+                     another",
+                    u.path.display(),
+                    u.reason
+                );
+                None
+            }
+        }
+    };
+    let resumed = Resumed {
+        done: &|i| done[i],
+        state: &resumed_state,
+    };
+    let result = runner::run(&make, &design, &my_chains, options, resumed, &finished);
     let mut rows = rows.into_inner().unwrap_or_else(|p| p.into_inner());
     let ran = match write_error.into_inner().unwrap_or_else(|p| p.into_inner()) {
         Some(e) => Err(e.context(format!("{}: writing the study", dir.display()))),

@@ -6,11 +6,12 @@
 //! The driver is three steps: [`plan`] (the options checked into a plan: parameter, values,
 //! predictor, mode, directory, the header with the fingerprints of the resolved scene and
 //! settings), [`values`] (solving each value warm or cold, resuming from the values that pass
-//! [`super::sweep_store::Store::verify`], saving each record) and [`outputs`] (run.json, table,
+//! [`records::Store::verify`], saving each record) and [`outputs`] (run.json, table,
 //! JSON, figures).
 
 mod outputs;
 mod plan;
+pub mod records;
 mod values;
 
 use std::path::PathBuf;
@@ -21,8 +22,8 @@ use lopin_core::window_choice::Task;
 
 use super::outputs::RerunArgs;
 use super::setup::{prepare, SceneArgs};
-use super::sweep_store::Store;
 use plan::{ParamValues, Plan, PredictorArg};
+use records::Store;
 
 /// Options of `lopin sweep`.
 #[derive(Debug, Args)]

@@ -9,7 +9,7 @@ use super::SweepArgs;
 use crate::cli::plot;
 use crate::cli::report::column_table;
 use crate::cli::setup::Prepared;
-use crate::cli::sweep_store::{record_name, Store, ValueRecord};
+use crate::cli::sweep::records::{record_name, Store, ValueRecord};
 use crate::run_dir::run_json::{RunRecord, SweepFacts};
 use lopin_core::counters::Instant;
 

@@ -14,7 +14,7 @@ use lopin_core::Parameter;
 
 use super::SweepArgs;
 use crate::cli::setup::Prepared;
-use crate::cli::sweep_store::Header;
+use crate::cli::sweep::records::Header;
 use crate::run_dir::fingerprint;
 
 /// `--param NAME=VALUES`: the parameter and its values.

@@ -19,7 +19,7 @@ use super::plan::{Mode, Plan};
 use super::SweepArgs;
 use crate::cli::outputs::{describe, FLUSH_TIMEOUT};
 use crate::cli::setup::Prepared;
-use crate::cli::sweep_store::{state_name, ColdRecord, Resumed, Store, ValueRecord};
+use crate::cli::sweep::records::{state_name, ColdRecord, Resumed, Store, ValueRecord};
 use crate::record::Recorder;
 
 /// Solves the values not in `resumed` yet and returns all the records.

@@ -63,7 +63,7 @@ pub(super) fn check_solver(s: &SolverSpec, source: &str) -> Result<()> {
             return err("solver.rho_inf".into(), reason);
         }
     }
-    if s.window == Some(0) {
+    if s.window == Some(crate::window_choice::WindowRequest::Steps(0)) {
         return err("solver.window".into(), "must be at least 1 step".into());
     }
     if s.max_iter == Some(0) {

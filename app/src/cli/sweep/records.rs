@@ -6,10 +6,10 @@
 //!   naming the file; a resume whose scene resolves differently (the scene file was edited) or
 //!   that asks for another sweep is refused.
 //! - one `value-NNN.json` record per finished value ([`ValueRecord`] plus `format`,
-//!   `sweep_hash` (the header's fingerprint), `state_checksum` (the state file's
-//!   [`file_checksum`]: crc32 of the file before its own trailing crc32) and its own
-//!   `checksum`), and its interface state `value-NNN.state` (binary,
-//!   [`crate::run_dir::solution_file`], bound to the header's fingerprint).
+//!   `sweep_hash` (the header's fingerprint), `state_checksum` (the state file's checksum:
+//!   crc32 of the file before its own trailing crc32) and its own `checksum`), and its
+//!   converged interface state `value-NNN.state`, kept as a study keeps its configurations'
+//!   ([`SavedStates`], bound to the header's fingerprint).
 //!
 //! Each file is written atomically (temporary file, then rename; the record last), so that a
 //! sweep killed at any moment loses nothing finished. On `--resume` ([`Store::verify`]) every
@@ -25,7 +25,7 @@ use std::path::{Path, PathBuf};
 
 use crate::run_dir::checked_json::{self, PLACEHOLDER};
 use crate::run_dir::fingerprint::{self, Fingerprint};
-use crate::run_dir::solution_file::{decode_state, encode_state, file_checksum};
+use crate::run_dir::saved_states::SavedStates;
 use anyhow::{bail, Context};
 use lopin_core::state::InterfaceState;
 use lopin_core::study::{Chain, Predictor};
@@ -215,6 +215,8 @@ pub struct Store {
     sweep_hash: Fingerprint,
     /// Whether this process writes the folder (rank 0 of a distributed sweep, or the only one).
     writes: bool,
+    /// The values' converged states.
+    states: SavedStates,
 }
 
 impl Store {
@@ -228,11 +230,7 @@ impl Store {
         resume: bool,
     ) -> anyhow::Result<Self> {
         fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
-        let store = Self {
-            dir: dir.to_path_buf(),
-            sweep_hash: header.fingerprint(),
-            writes: true,
-        };
+        let store = Self::in_dir(dir, header, true);
         let head = dir.join(SWEEP_JSON);
         if head.exists() {
             let text =
@@ -365,26 +363,10 @@ impl Store {
             ));
         }
         record.check_finite().map_err(|e| fail(&path, e))?;
-        let state_path = self.dir.join(&record.state_file);
-        let bytes =
-            fs::read(&state_path).map_err(|e| fail(&state_path, format!("unreadable: {e}")))?;
-        let computed = format!("{:08x}", file_checksum(&bytes));
-        if computed != file.state_checksum {
-            return Err(fail(
-                &state_path,
-                format!(
-                    "checksum mismatch (recorded {} in {}, computed {computed}): the file is \
-                     damaged or was replaced",
-                    file.state_checksum,
-                    record_name(i)
-                ),
-            ));
-        }
-        let state = decode_state(&bytes, self.sweep_hash)
-            .map_err(|e| fail(&state_path, format!("{e:#}")))?;
-        state
-            .check_fits(problem)
-            .map_err(|e| fail(&state_path, format!("does not fit the problem: {e}")))?;
+        let state = self
+            .states
+            .load(&record.state_file, Some(&file.state_checksum), problem)
+            .map_err(|u| (u.path, u.reason))?;
         Ok((record, state))
     }
 
@@ -394,13 +376,12 @@ impl Store {
         if !self.writes {
             return Ok(());
         }
-        let bytes = encode_state(state, self.sweep_hash);
-        self.write_atomic(&record.state_file, &bytes)?;
+        let state_checksum = self.states.save(&record.state_file, state)?;
         let file = RecordFile {
             format: SWEEP_FORMAT,
             record: record.clone(),
             sweep_hash: self.sweep_hash,
-            state_checksum: format!("{:08x}", file_checksum(&bytes)),
+            state_checksum,
             checksum: PLACEHOLDER.into(),
         };
         self.write_atomic(
@@ -412,10 +393,16 @@ impl Store {
     /// The folder of `header` as another rank than rank 0 of a distributed sweep sees it: it
     /// reads the records rank 0 checked (after rank 0 has opened the folder), and writes nothing.
     pub fn follow(dir: &Path, header: &Header) -> Self {
+        Self::in_dir(dir, header, false)
+    }
+
+    fn in_dir(dir: &Path, header: &Header, writes: bool) -> Self {
+        let sweep_hash = header.fingerprint();
         Self {
             dir: dir.to_path_buf(),
-            sweep_hash: header.fingerprint(),
-            writes: false,
+            sweep_hash,
+            writes,
+            states: SavedStates::new(dir, sweep_hash, writes),
         }
     }
 
