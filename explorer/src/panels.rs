@@ -194,6 +194,20 @@ pub fn parameters(
                 .text("impact v0 (m/s)"),
         );
     }
+    if let Some(d) = &mut p.duration {
+        let mut us = *d * 1e6;
+        let moved = ui
+            .add(
+                egui::Slider::new(&mut us, 0.1..=1000.0)
+                    .logarithmic(true)
+                    .clamping(egui::SliderClamping::Never)
+                    .text("pulse duration (µs)"),
+            )
+            .changed();
+        if moved && us > 0.0 && (us - *d * 1e6).abs() > 1e-9 * us {
+            *d = us * 1e-6;
+        }
+    }
     ui.add(
         egui::Slider::new(&mut p.settings.k, 1e5..=1e9)
             .logarithmic(true)

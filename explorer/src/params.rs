@@ -1,6 +1,7 @@
 //! The parameters the explorer lets the user move: the contact interfaces' friction coefficient
 //! (on every contact, or on one zone of the scene, [`FrictionTargets`]) and initial gap, the
-//! amplitude of the prescribed impact velocity (METHOD §5 laws), and the
+//! amplitude of the prescribed impact velocity and the duration of a boundary pulse (METHOD §5
+//! laws), and the
 //! LATIN settings k, μ, tolerance, the macro problem switch, the time scheme's ρ∞ and the shape of
 //! the search direction (METHOD §2, §3, §7, §9). Applying them never refactorizes unless k, ρ∞ or
 //! the direction shape changes (the macro problem is built the first time it is switched on, and
@@ -24,6 +25,8 @@ pub struct Params {
     pub gap: Option<f64>,
     /// Amplitude of the prescribed impact velocity, m/s (None: nothing is prescribed).
     pub velocity: Option<f64>,
+    /// Duration of the boundary pulses, s (None: the scene prescribes no pulse).
+    pub duration: Option<f64>,
     /// The solver settings; the panel moves k, μ, the tolerance, the macro switch, ρ∞ and the
     /// shape of the search direction.
     pub settings: Settings,
@@ -38,6 +41,7 @@ impl Params {
             zones: problem.zones.iter().map(|z| z.name.clone()).collect(),
             gap: Parameter::Gap.current(problem),
             velocity: Parameter::VelocityAmplitude.current(problem),
+            duration: Parameter::PulseDuration.current(problem),
             settings: *settings,
         }
     }
@@ -48,6 +52,7 @@ impl Params {
             Parameter::Friction => self.friction,
             Parameter::Gap => self.gap,
             Parameter::VelocityAmplitude => self.velocity,
+            Parameter::PulseDuration => self.duration,
         }
     }
 
@@ -183,6 +188,7 @@ mod tests {
             zones: vec!["upper".to_string(), "lower".to_string()].into(),
             gap: None,
             velocity: None,
+            duration: None,
             settings: Settings::defaults(1.0),
         };
         let mut t = FrictionTargets {

@@ -1,12 +1,13 @@
 //! The interface parameters a user moves without refactorizing anything (METHOD §5 laws, §8
-//! multiresolution): the friction coefficient and initial gap of every contact interface and the
-//! amplitude of every non-zero prescribed velocity. One type reads a parameter's current value
+//! multiresolution): the friction coefficient and initial gap of every contact interface, the
+//! amplitude of every non-zero prescribed velocity and the duration of every boundary pulse. One type reads a parameter's current value
 //! from a problem and applies a new one, validated; the solver, sweeps, the explorer and the
 //! monolithic reference all go through it.
 
 use crate::error::{LopinError, Result};
 use crate::interfaces::interface::{DofLaw, Law};
 use crate::problem::Problem;
+use crate::time::time_function::Shape;
 
 /// A parameter of the interfaces' laws.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -17,21 +18,30 @@ pub enum Parameter {
     Gap,
     /// Amplitude V0 (m/s) of every non-zero prescribed velocity.
     VelocityAmplitude,
+    /// Duration T (s) of every standard pulse a boundary prescribes (a trapezoid's rise scales
+    /// with it).
+    PulseDuration,
 }
 
 impl Parameter {
     /// Every parameter, in the order tables and panels list them.
-    pub const ALL: [Parameter; 3] = [Self::Friction, Self::Gap, Self::VelocityAmplitude];
+    pub const ALL: [Parameter; 4] = [
+        Self::Friction,
+        Self::Gap,
+        Self::VelocityAmplitude,
+        Self::PulseDuration,
+    ];
 
-    /// Parses `f`/`friction`, `gap`/`g0`, `v0`/`velocity`.
+    /// Parses `f`/`friction`, `gap`/`g0`, `v0`/`velocity`, `duration`.
     pub fn parse(name: &str) -> Result<Self> {
         match name {
             "f" | "friction" => Ok(Self::Friction),
             "gap" | "g0" => Ok(Self::Gap),
             "v0" | "velocity" => Ok(Self::VelocityAmplitude),
+            "duration" => Ok(Self::PulseDuration),
             _ => Err(LopinError::setting(
                 "param",
-                format!("unknown parameter `{name}` (sweepable: f, gap, v0)"),
+                format!("unknown parameter `{name}` (sweepable: f, gap, v0, duration)"),
             )),
         }
     }
@@ -42,6 +52,7 @@ impl Parameter {
             Self::Friction => "f",
             Self::Gap => "gap",
             Self::VelocityAmplitude => "v0",
+            Self::PulseDuration => "duration",
         }
     }
 
@@ -51,6 +62,7 @@ impl Parameter {
             Self::Friction => "",
             Self::Gap => "m",
             Self::VelocityAmplitude => "m/s",
+            Self::PulseDuration => "s",
         }
     }
 
@@ -74,6 +86,10 @@ impl Parameter {
                 "v0",
                 format!("must be finite, got {value:?}"),
             )),
+            Self::PulseDuration if !(value.is_finite() && value > 0.0) => Err(LopinError::setting(
+                "duration",
+                format!("must be positive, got {value:?}"),
+            )),
             _ => Ok(()),
         }
     }
@@ -88,12 +104,20 @@ impl Parameter {
     /// all).
     pub fn current_in(&self, problem: &Problem, zone: Option<usize>) -> Option<f64> {
         let reached = |i: usize| zone.is_none_or(|z| problem.zones[z].holds(i));
-        let mut interfaces = problem
+        let interfaces = problem
             .interfaces
             .iter()
             .enumerate()
             .filter(|&(i, _)| reached(i))
             .map(|(_, iface)| iface);
+        let boundary_laws = interfaces
+            .clone()
+            .filter_map(|i| match &i.law {
+                Law::Boundary(d) => Some(d),
+                _ => None,
+            })
+            .flatten()
+            .map(|d| &d.law);
         let contact = interfaces.clone().find_map(|i| match &i.law {
             Law::Contact(c) => Some(c),
             _ => None,
@@ -101,16 +125,18 @@ impl Parameter {
         match self {
             Self::Friction => contact.map(|c| c.friction),
             Self::Gap => contact.map(|c| c.gap.first().copied().unwrap_or(0.0)),
-            Self::VelocityAmplitude => interfaces
-                .by_ref()
-                .filter_map(|i| match &i.law {
-                    Law::Boundary(d) => Some(d),
-                    _ => None,
-                })
-                .flatten()
-                .filter_map(|d| match d.law {
+            Self::VelocityAmplitude => boundary_laws
+                .filter_map(|law| match law {
                     DofLaw::Velocity(f) if f.amplitude != 0.0 => Some(f.amplitude.abs()),
                     _ => None,
+                })
+                .reduce(f64::max),
+            Self::PulseDuration => boundary_laws
+                .filter_map(|law| match law {
+                    DofLaw::Velocity(f) | DofLaw::Traction(f) => match f.shape {
+                        Shape::Pulse { duration, .. } => Some(duration),
+                        _ => None,
+                    },
                 })
                 .reduce(f64::max),
         }
@@ -135,6 +161,18 @@ impl Parameter {
                     return Err(LopinError::setting(
                         "gap",
                         format!("{value:?} m exceeds the size of the whole model ({size:.4e} m)"),
+                    ));
+                }
+            }
+            Self::PulseDuration => {
+                let run = problem.time.end();
+                if value > run * (1.0 + 1e-9) {
+                    return Err(LopinError::setting(
+                        "duration",
+                        format!(
+                            "a pulse of {value:?} s is longer than the run ({run:.4e} s): the run \
+                             would end inside it"
+                        ),
                     ));
                 }
             }
@@ -165,6 +203,7 @@ impl Parameter {
             Self::Friction => problem.set_friction(value, zone),
             Self::Gap => problem.set_gap(value, zone),
             Self::VelocityAmplitude => problem.set_velocity_amplitude(value, zone),
+            Self::PulseDuration => problem.set_pulse_duration(value, zone),
         }
         Ok(())
     }

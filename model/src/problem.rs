@@ -120,6 +120,19 @@ impl Problem {
         }
     }
 
+    /// Sets the duration of every pulse a boundary prescribes (of `zone` only, if given),
+    /// scaling a trapezoid's rise with it.
+    pub(crate) fn set_pulse_duration(&mut self, t: f64, zone: Option<usize>) {
+        let reached = self.reached(zone);
+        for (i, _) in self.interfaces.iter_mut().zip(reached).filter(|x| x.1) {
+            if let Law::Boundary(d) = &mut i.law {
+                for dof in d.iter_mut() {
+                    dof.set_pulse_duration(t);
+                }
+            }
+        }
+    }
+
     /// Sets the initial gap g0 of every node of every contact interface (of `zone` only, if
     /// given).
     pub(crate) fn set_gap(&mut self, g0: f64, zone: Option<usize>) {

@@ -30,8 +30,8 @@ impl BarExact {
             return None;
         }
         let drive = p.interfaces.iter().find_map(|i| match &i.law {
-            Law::Boundary(d) => d.iter().find_map(|b| match b.law {
-                DofLaw::Velocity(f) if b.component == 0 && f.amplitude != 0.0 => Some(f),
+            Law::Boundary(d) => d.iter().find_map(|b| match &b.law {
+                DofLaw::Velocity(f) if b.component == 0 && f.amplitude != 0.0 => Some(f.clone()),
                 _ => None,
             }),
             _ => None,

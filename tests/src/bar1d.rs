@@ -116,6 +116,7 @@ impl Bar1d {
                     traction: None,
                     ramp,
                     ramp_time: t,
+                    ..ComponentSpec::default()
                 }),
                 y: None,
                 z: None,

@@ -95,7 +95,7 @@ pub fn march(
         let mut vn: Vec<Vec<f64>> = (0..nc)
             .map(|ci| {
                 let r = residual(&chains[ci], dt, &u[ci], &v[ci], &a[ci]);
-                let fixed_v = fixed(ci).then(|| push.map_or(0.0, |f| f.value(t)));
+                let fixed_v = fixed(ci).then(|| push.as_ref().map_or(0.0, |f| f.value(t)));
                 ops[ci].solve(&r, fixed_v)
             })
             .collect();

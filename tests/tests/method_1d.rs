@@ -56,11 +56,7 @@ fn compare(bar: &Bar1d, latin: &[Vec<f64>], mono: &mono1d::History, x_start: &[f
 
 fn push_fn(bar: &Bar1d) -> TimeFunction {
     let (amplitude, ramp_time, ramp) = bar.push.expect("pushed bar");
-    TimeFunction {
-        amplitude,
-        ramp,
-        ramp_time,
-    }
+    TimeFunction::ramp(amplitude, ramp, ramp_time)
 }
 
 /// 1a: LATIN converged to η < 1e-10 equals the monolithic solution to ≤ 1e-8 (METHOD: 7.0e-10,

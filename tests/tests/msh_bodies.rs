@@ -78,11 +78,7 @@ fn problem_from_file(binary: bool) -> Problem {
     interfaces.push(clamped);
     let push = [BoundaryDof {
         component: 2,
-        law: DofLaw::Velocity(TimeFunction {
-            amplitude: -1.0,
-            ramp: Ramp::Cosine,
-            ramp_time: 2e-6,
-        }),
+        law: DofLaw::Velocity(TimeFunction::ramp(-1.0, Ramp::Cosine, 2e-6)),
     }];
     interfaces.push(
         boundary_interface(&subs, 1, 2, 1.0, 2.0 * SIZE, &push, "upper:top".into())

@@ -43,15 +43,13 @@ fn law_inputs(problem: &Problem, i: usize) -> String {
                 .iter()
                 .map(|d| {
                     let axis = ["x", "y", "z"][d.component];
-                    match d.law {
-                        DofLaw::Velocity(f) => format!(
-                            "{axis} velocity {:?} m/s (ramp {:?} over {:e} s)",
-                            f.amplitude, f.ramp, f.ramp_time
-                        ),
-                        DofLaw::Traction(f) => format!(
-                            "{axis} traction {:?} Pa (ramp {:?} over {:e} s)",
-                            f.amplitude, f.ramp, f.ramp_time
-                        ),
+                    match &d.law {
+                        DofLaw::Velocity(f) => {
+                            format!("{axis} velocity {:?} m/s ({})", f.amplitude, f.describe())
+                        }
+                        DofLaw::Traction(f) => {
+                            format!("{axis} traction {:?} Pa ({})", f.amplitude, f.describe())
+                        }
                     }
                 })
                 .collect();

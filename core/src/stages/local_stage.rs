@@ -89,7 +89,7 @@ pub fn local_stage(
                 let r = hat[0].at(m);
                 for (j, d) in dofs.iter().enumerate() {
                     let k = k * iface.k_scale[j];
-                    let (fh, wh) = match d.law {
+                    let (fh, wh) = match &d.law {
                         DofLaw::Velocity(g) => {
                             let wd = g.value(t);
                             (f[j] + k * (wd - w[j]), wd)

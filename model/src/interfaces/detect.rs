@@ -336,7 +336,7 @@ pub fn boundary_interface_on(
         for d in dofs {
             nodes.push(n);
             areas.push(a);
-            laws.push(*d);
+            laws.push(d.clone());
         }
     }
     Some(Interface {

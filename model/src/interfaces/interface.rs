@@ -3,7 +3,7 @@
 //! substructure's trace vector (node-major, component-minor: METHOD §11 data layout).
 
 use crate::mesh::Vec3;
-use crate::time::time_function::TimeFunction;
+use crate::time::time_function::{Shape, TimeFunction};
 
 /// One side of an interface: which substructure, where its dofs sit in that substructure's trace
 /// vector, and which mesh nodes they belong to.
@@ -18,7 +18,7 @@ pub struct Side {
 }
 
 /// What a boundary dof prescribes (METHOD §5, per component in global axes).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum DofLaw {
     /// Prescribed velocity W_d(t).
     Velocity(TimeFunction),
@@ -27,7 +27,7 @@ pub enum DofLaw {
 }
 
 /// A prescribed dof of a boundary interface.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct BoundaryDof {
     /// Component 0, 1, 2 = x, y, z.
     pub component: usize,
@@ -46,9 +46,19 @@ impl BoundaryDof {
         }
     }
 
+    /// Sets the duration of a pulse (a trapezoid's rise scaled with it; other shapes are left
+    /// alone).
+    pub fn set_pulse_duration(&mut self, t: f64) {
+        let (DofLaw::Velocity(f) | DofLaw::Traction(f)) = &mut self.law;
+        if let Shape::Pulse { duration, rise, .. } = &mut f.shape {
+            *rise *= t / *duration;
+            *duration = t;
+        }
+    }
+
     /// Sign of the prescribed velocity amplitude (0 for zero velocities and tractions).
     pub fn velocity_sign(&self) -> f64 {
-        match self.law {
+        match &self.law {
             DofLaw::Velocity(f) if f.amplitude != 0.0 => f.amplitude.signum(),
             _ => 0.0,
         }

@@ -233,7 +233,7 @@ fn select(
             Law::Boundary(dofs)
                 if dofs
                     .iter()
-                    .any(|d| matches!(d.law, DofLaw::Velocity(f) if f.amplitude != 0.0))
+                    .any(|d| matches!(&d.law, DofLaw::Velocity(f) if f.amplitude != 0.0))
                     && body_named(body(0))
                     && inside(iface)
                     && on_surface(i) =>

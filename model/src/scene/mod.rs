@@ -4,7 +4,8 @@
 //! ([`granular`], [`granular_poly`]) expand their tables, [`validate`] checks every field,
 //! [`admission`] counts what a solve will hold, [`build`] meshes, detects and assembles the
 //! [`crate::Problem`], and the settings resolve ([`crate::settings`]). [`settings`] holds the
-//! settings a scene names besides numbers; [`mesh_bodies`] reads bodies from Gmsh files.
+//! settings a scene names besides numbers; [`mesh_bodies`] reads bodies from Gmsh files and
+//! [`time_tables`] the CSV tables of time functions.
 
 pub mod admission;
 mod build;
@@ -22,6 +23,7 @@ pub mod registry;
 pub mod settings;
 pub mod spec;
 pub mod tables;
+pub mod time_tables;
 pub mod validate;
 
 pub use open::{

@@ -321,7 +321,9 @@ pub fn read(name_or_path: &str) -> Result<SceneSpec> {
                 path: name_or_path.to_string(),
                 reason: e.to_string(),
             })?;
-            return reading::parse(&text, name_or_path);
+            let mut spec = reading::parse(&text, name_or_path)?;
+            super::time_tables::read_files(&mut spec, name_or_path)?;
+            return Ok(spec);
         }
     }
     Err(LopinError::UnknownScene {

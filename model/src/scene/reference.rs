@@ -59,13 +59,17 @@ enum Base {
     /// A steel unit cube from a Gmsh file (six tetrahedra, its face `bottom` clamped) and a box
     /// body apart from it.
     Meshed,
+    /// `two-blocks` shocked on top by a trapezoid pulse (10 µs, rise 2 µs) instead of a ramp.
+    Pulsed,
+    /// `two-blocks` driven on top by a table of points instead of a ramp.
+    Tabled,
 }
 
 const fn out(base: Base, path: &'static str, value: &'static str) -> Option<Probe> {
     Some(Probe { base, path, value })
 }
 
-use Base::{Boxes, Granular, GranularPoly, Meshed, Zoned};
+use Base::{Boxes, Granular, GranularPoly, Meshed, Pulsed, Tabled, Zoned};
 
 /// Unit, range and probes of every key.
 const RULES: &[Rule] = &[
@@ -407,6 +411,41 @@ const RULES: &[Rule] = &[
         range: "≥ 0, at most the run's duration (`time.steps` × `time.dt`)",
         outside: out(Boxes, "boundary[0].z.ramp_time", "1.0"),
         inside: out(Boxes, "boundary[0].z.ramp_time", "1.5e-5"),
+    },
+    Rule {
+        key: "boundary.x.pulse",
+        unit: "",
+        range: "`half-sine`, `haversine`, `sawtooth` or `trapezoid`; not with `ramp_time` or a table",
+        outside: out(Pulsed, "boundary[0].z.pulse", "\"square\""),
+        inside: out(Pulsed, "boundary[0].z.pulse", "\"trapezoid\""),
+    },
+    Rule {
+        key: "boundary.x.duration",
+        unit: "s",
+        range: "> 0, at most the run's duration (`time.steps` × `time.dt`); with `pulse` only",
+        outside: out(Pulsed, "boundary[0].z.duration", "1.0"),
+        inside: out(Pulsed, "boundary[0].z.duration", "1.5e-5"),
+    },
+    Rule {
+        key: "boundary.x.rise",
+        unit: "s",
+        range: "in (0, `duration` / 2]; a trapezoid pulse's only, and it needs one",
+        outside: out(Pulsed, "boundary[0].z.rise", "6e-6"),
+        inside: out(Pulsed, "boundary[0].z.rise", "5e-6"),
+    },
+    Rule {
+        key: "boundary.x.table",
+        unit: "[s, ×]",
+        range: "at least one point; finite; times from 0, strictly increasing",
+        outside: out(Tabled, "boundary[0].z.table", "[[0.0, 0.0], [2e-6, 1.0], [1e-6, 0.5]]"),
+        inside: out(Tabled, "boundary[0].z.table", "[[0.0, 1.0]]"),
+    },
+    Rule {
+        key: "boundary.x.table_file",
+        unit: "",
+        range: "a readable CSV file (relative to the scene file) of `t,value` lines, read into `table`",
+        outside: None,
+        inside: None,
     },
     // [[zone]]
     Rule {
@@ -829,14 +868,29 @@ clamped = true
 /// The base scene of a probe, as TOML.
 fn base_toml(base: Base) -> Result<String, String> {
     let name = match base {
-        Boxes | Zoned => "two-blocks",
+        Boxes | Zoned | Pulsed | Tabled => "two-blocks",
         Granular => "granular-small",
         GranularPoly => "granular-poly",
         Meshed => return Ok(MESHED_TOML.to_string()),
     };
-    let spec = registry::parse(name)
+    let mut spec = registry::parse(name)
         .ok_or_else(|| format!("no built-in scene {name}"))?
         .map_err(|e| e.to_string())?;
+    if let Some(z) = spec
+        .boundaries
+        .first_mut()
+        .and_then(|b| b.z.as_mut())
+        .filter(|_| matches!(base, Pulsed | Tabled))
+    {
+        z.ramp_time = 0.0;
+        if base == Pulsed {
+            z.pulse = Some(crate::time::time_function::PulseKind::Trapezoid);
+            z.duration = Some(1e-5);
+            z.rise = Some(2e-6);
+        } else {
+            z.table = Some(vec![[0.0, 0.0], [2.5e-6, 1.0]]);
+        }
+    }
     let mut text = to_toml(&spec);
     if base == Zoned {
         text.push_str("\n[[zone]]\nname = \"joint\"\nbodies = [[\"A\", \"B\"]]\n");

@@ -9,7 +9,7 @@ use crate::error::{LopinError, Result};
 use crate::scene::exact::exactly;
 use crate::scene::tables::GranularPolySpec;
 use crate::scene::tables::GranularSpec;
-use crate::time::time_function::{Ramp, TimeGrid};
+use crate::time::time_function::{PulseKind, Ramp, TimeGrid};
 
 /// A whole scene.
 #[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
@@ -330,9 +330,11 @@ fn is_false(b: &bool) -> bool {
     !*b
 }
 
-/// A prescribed velocity or traction on one component, with its ramp.
+/// A prescribed velocity or traction on one component, with its time function: a ramp (the
+/// default), a standard pulse, or a table of points (pulses and tables are read from scene text
+/// with the `shock` feature; the web build's built-in scenes use none).
 #[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ComponentSpec {
     /// Velocity amplitude V₀ (m/s).
@@ -347,6 +349,30 @@ pub struct ComponentSpec {
     /// Ramp duration t_r (s).
     #[serde(default)]
     pub ramp_time: f64,
+    /// A standard shock pulse instead of a ramp, whose peak is the velocity or traction:
+    /// `half-sine`, `haversine`, `sawtooth` (terminal peak) or `trapezoid`; 0 after `duration`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(not(feature = "shock"), serde(skip))]
+    pub pulse: Option<PulseKind>,
+    /// Duration T of the pulse (s).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(not(feature = "shock"), serde(skip))]
+    pub duration: Option<f64>,
+    /// Rise (and fall) time of a trapezoid pulse (s).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(not(feature = "shock"), serde(skip))]
+    pub rise: Option<f64>,
+    /// A table of `[t, value]` points instead of a ramp (t increasing, from 0 s), interpolated
+    /// linearly, from 0 at t = 0 to the first point, the last value held; the velocity or
+    /// traction multiplies its values (1: the values as written).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(not(feature = "shock"), serde(skip))]
+    pub table: Option<Vec<[f64; 2]>>,
+    /// A CSV file of `t,value` lines (relative to the scene file; a header line and `#`
+    /// comments are skipped), read as `table` when the scene file is read.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(not(feature = "shock"), serde(skip))]
+    pub table_file: Option<String>,
 }
 
 impl ComponentSpec {
@@ -357,6 +383,7 @@ impl ComponentSpec {
             traction: None,
             ramp: Ramp::Cosine,
             ramp_time,
+            ..Self::default()
         }
     }
 }

@@ -107,8 +107,8 @@ impl Assembled {
                     let side = &iface.sides[0];
                     for (j, d) in dofs.iter().enumerate() {
                         let g = 3 * numbering.node_of[side.sub][side.nodes[j]] + d.component;
-                        match d.law {
-                            DofLaw::Velocity(f) => match prescribed[g] {
+                        match &d.law {
+                            DofLaw::Velocity(f) => match &prescribed[g] {
                                 Some(old) if old != f => {
                                     return Err(LopinError::Reference(format!(
                                         "interface `{}` prescribes a velocity on a dof that another boundary prescribes differently (node at {:?})",
@@ -116,9 +116,9 @@ impl Assembled {
                                         problem.subs[side.sub].mesh.nodes[side.nodes[j]]
                                     )));
                                 }
-                                _ => prescribed[g] = Some(f),
+                                _ => prescribed[g] = Some(f.clone()),
                             },
-                            DofLaw::Traction(f) => tractions.push((g, iface.area[j], f)),
+                            DofLaw::Traction(f) => tractions.push((g, iface.area[j], f.clone())),
                         }
                     }
                 }

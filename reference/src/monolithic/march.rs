@@ -119,7 +119,7 @@ pub fn march(
         asm.stiffness.mul_into(&tmp, &mut ktmp);
         // v_new holds the prescribed values (zero on free dofs) to form S_fp v_p
         for g in 0..n {
-            v_new[g] = asm.prescribed[g].map_or(0.0, |f| f.value(t));
+            v_new[g] = asm.prescribed[g].as_ref().map_or(0.0, |f| f.value(t));
         }
         if any_prescribed {
             asm.stiffness.mul_into(&v_new, &mut kp);
@@ -135,7 +135,7 @@ pub fn march(
                 rhs[fi] = asm.mass[g] * (c.mass * v[g] + c.mass_a * a[g]) - ktmp[g] - coupling;
             }
         }
-        for &(g, area, f) in &asm.tractions {
+        for &(g, area, ref f) in &asm.tractions {
             let fi = asm.free_index[g];
             if fi != usize::MAX {
                 rhs[fi] += area * f.value(t);

@@ -1,9 +1,12 @@
 //! The laws a `[[boundary]]` entry prescribes on each dof of its face or surface (METHOD §5,
-//! boundary interfaces): a velocity or a traction per component with its ramp, or a clamp.
+//! boundary interfaces): a velocity or a traction per component with its time function (a
+//! ramp, a standard pulse or a table of points), or a clamp.
 
 use crate::interfaces::interface::{BoundaryDof, DofLaw};
 use crate::scene::spec::{BoundarySpec, ComponentSpec};
-use crate::time::time_function::TimeFunction;
+#[cfg(feature = "shock")]
+use crate::time::time_function::PulseKind;
+use crate::time::time_function::{Shape, TimeFunction};
 
 /// The prescribed dofs of a boundary, or (field, reason).
 pub fn boundary_dofs(bc: &BoundarySpec) -> std::result::Result<Vec<BoundaryDof>, (String, String)> {
@@ -27,7 +30,10 @@ pub fn boundary_dofs(bc: &BoundarySpec) -> std::result::Result<Vec<BoundaryDof>,
         let Some(c) = c else { continue };
         dofs.push(BoundaryDof {
             component,
-            law: component_law(c).map_err(|r| (axis.to_string(), r))?,
+            law: component_law(c).map_err(|(key, r)| match key {
+                "" => (axis.to_string(), r),
+                key => (format!("{axis}.{key}"), r),
+            })?,
         });
     }
     if dofs.is_empty() {
@@ -39,23 +45,164 @@ pub fn boundary_dofs(bc: &BoundarySpec) -> std::result::Result<Vec<BoundaryDof>,
     Ok(dofs)
 }
 
-fn component_law(c: &ComponentSpec) -> std::result::Result<DofLaw, String> {
-    if !(c.ramp_time.is_finite() && c.ramp_time >= 0.0) {
-        return Err(format!(
-            "ramp_time must be a non-negative number, got {:?}",
-            c.ramp_time
-        ));
-    }
-    let f = |amplitude: f64| TimeFunction {
-        amplitude,
-        ramp: c.ramp,
-        ramp_time: c.ramp_time,
+/// A component's law, or (the key at fault, empty for the component itself; the reason).
+fn component_law(c: &ComponentSpec) -> std::result::Result<DofLaw, (&'static str, String)> {
+    let f = |amplitude: f64| -> std::result::Result<TimeFunction, (&'static str, String)> {
+        Ok(TimeFunction {
+            amplitude,
+            shape: shape(c)?,
+        })
     };
     match (c.velocity, c.traction) {
-        (Some(v), None) if v.is_finite() => Ok(DofLaw::Velocity(f(v))),
-        (None, Some(t)) if t.is_finite() => Ok(DofLaw::Traction(f(t))),
-        (Some(_), Some(_)) => Err("give either `velocity` or `traction`, not both".into()),
-        (None, None) => Err("give `velocity` or `traction`".into()),
-        _ => Err("value must be finite".into()),
+        (Some(v), None) if v.is_finite() => Ok(DofLaw::Velocity(f(v)?)),
+        (None, Some(t)) if t.is_finite() => Ok(DofLaw::Traction(f(t)?)),
+        (Some(_), Some(_)) => Err(("", "give either `velocity` or `traction`, not both".into())),
+        (None, None) => Err(("", "give `velocity` or `traction`".into())),
+        _ => Err(("", "value must be finite".into())),
     }
+}
+
+/// The shape of a component's time function: its ramp, pulse or table, checked; errors as
+/// [`component_law`]'s.
+fn shape(c: &ComponentSpec) -> std::result::Result<Shape, (&'static str, String)> {
+    if !(c.ramp_time.is_finite() && c.ramp_time >= 0.0) {
+        return Err((
+            "",
+            format!(
+                "ramp_time must be a non-negative number, got {:?}",
+                c.ramp_time
+            ),
+        ));
+    }
+    #[cfg(feature = "shock")]
+    if let Some(shape) = pulse_or_table(c)? {
+        return Ok(shape);
+    }
+    Ok(Shape::Ramp {
+        profile: c.ramp,
+        time: c.ramp_time,
+    })
+}
+
+/// A component's pulse or table, checked (None: it has neither, and follows its ramp).
+#[cfg(feature = "shock")]
+fn pulse_or_table(c: &ComponentSpec) -> std::result::Result<Option<Shape>, (&'static str, String)> {
+    let table = c.table.is_some() || c.table_file.is_some();
+    let given = [
+        (c.ramp_time > 0.0, "ramp_time"),
+        (c.pulse.is_some(), "pulse"),
+        (table, "table"),
+    ];
+    let named: Vec<&str> = given.iter().filter(|g| g.0).map(|g| g.1).collect();
+    if named.len() > 1 {
+        return Err((
+            "",
+            format!(
+                "give one time function: `{}` and `{}` both describe it",
+                named[0], named[1]
+            ),
+        ));
+    }
+    if c.pulse.is_none() {
+        for (key, v) in [("duration", c.duration), ("rise", c.rise)] {
+            if v.is_some() {
+                return Err((
+                    key,
+                    format!("`{key}` is a pulse's: give `pulse` too, or remove it"),
+                ));
+            }
+        }
+    }
+    if let Some(kind) = c.pulse {
+        return pulse(kind, c.duration, c.rise).map(Some);
+    }
+    if table {
+        return match &c.table {
+            Some(points) => check_table(points)
+                .map(|()| Some(Shape::Table(points.clone().into())))
+                .map_err(|r| ("table", r)),
+            None => Err((
+                "table_file",
+                format!(
+                    "`{}` was not read: only a scene file reads its tables (give the points \
+                     inline as `table`)",
+                    c.table_file.as_deref().unwrap_or_default()
+                ),
+            )),
+        };
+    }
+    Ok(None)
+}
+
+#[cfg(feature = "shock")]
+/// A pulse of `kind`, its duration and (a trapezoid's) rise checked.
+fn pulse(
+    kind: PulseKind,
+    duration: Option<f64>,
+    rise: Option<f64>,
+) -> std::result::Result<Shape, (&'static str, String)> {
+    let name = kind.name();
+    let Some(duration) = duration else {
+        return Err((
+            "duration",
+            format!("a {name} pulse needs its `duration` (s)"),
+        ));
+    };
+    if !(duration.is_finite() && duration > 0.0) {
+        return Err(("duration", format!("must be positive, got {duration:?}")));
+    }
+    let rise = match (kind, rise) {
+        (PulseKind::Trapezoid, None) => {
+            return Err((
+                "rise",
+                "a trapezoid pulse needs its rise (and fall) time (s)".into(),
+            ))
+        }
+        (PulseKind::Trapezoid, Some(r)) if !(r.is_finite() && r > 0.0 && r <= duration / 2.0) => {
+            return Err((
+                "rise",
+                format!(
+                    "must lie in (0, duration / 2] = (0, {:e}] s, got {r:?}",
+                    duration / 2.0
+                ),
+            ))
+        }
+        (PulseKind::Trapezoid, Some(r)) => r,
+        (_, Some(_)) => {
+            return Err((
+                "rise",
+                format!("a trapezoid pulse's, not a {name}'s: remove it"),
+            ))
+        }
+        (_, None) => 0.0,
+    };
+    Ok(Shape::Pulse {
+        kind,
+        duration,
+        rise,
+    })
+}
+
+/// A table's points: at least one, finite, times from 0 and strictly increasing.
+#[cfg(feature = "shock")]
+pub fn check_table(points: &[[f64; 2]]) -> std::result::Result<(), String> {
+    if points.is_empty() {
+        return Err("table: give at least one [t, value] point".into());
+    }
+    for (i, &[t, v]) in points.iter().enumerate() {
+        if !(t.is_finite() && v.is_finite()) {
+            return Err(format!("table[{i}] = [{t:?}, {v:?}]: not a finite number"));
+        }
+        if t < 0.0 {
+            return Err(format!("table[{i}]: time {t:e} s is before 0"));
+        }
+        if i > 0 && t <= points[i - 1][0] {
+            return Err(format!(
+                "table[{i}]: time {t:e} s is not after the previous point's {:e} s (times must \
+                 increase)",
+                points[i - 1][0]
+            ));
+        }
+    }
+    Ok(())
 }

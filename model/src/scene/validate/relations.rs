@@ -297,6 +297,17 @@ pub(super) fn check_ramps(spec: &SceneSpec, source: &str) -> Result<()> {
     for (i, bc) in spec.boundaries.iter().enumerate() {
         for (axis, c) in bc.components() {
             let Some(c) = c else { continue };
+            #[cfg(feature = "shock")]
+            if let Some(d) = c.duration.filter(|&d| d > duration * (1.0 + 1e-9)) {
+                return Err(LopinError::scene(
+                    source,
+                    format!("boundary[{i}].{axis}.duration"),
+                    format!(
+                        "a pulse of {d:?} s is longer than the run ({run} s = time.steps × \
+                         time.dt): the run would end inside it; at most {run} s, or a longer run"
+                    ),
+                ));
+            }
             if c.ramp_time > duration * (1.0 + 1e-9) {
                 return Err(LopinError::scene(
                     source,
