@@ -7,6 +7,33 @@
 use lopin_explorer::page_report::PageReport;
 use lopin_explorer::{ExplorerApp, Options};
 
+/// egui's proportional font and its icons for every text, monospace included: the page draws
+/// no code, and a second font would add its size to the download.
+fn fonts() -> egui::FontDefinitions {
+    use egui::{FontData, FontFamily, FontTweak};
+    use std::sync::Arc;
+    let mut fonts = egui::FontDefinitions::empty();
+    fonts.font_data.insert(
+        "Ubuntu-Light".into(),
+        Arc::new(FontData::from_static(epaint_default_fonts::UBUNTU_LIGHT)),
+    );
+    fonts.font_data.insert(
+        "egui-icons".into(),
+        Arc::new(
+            FontData::from_static(epaint_default_fonts::EGUI_ICONS).tweak(FontTweak {
+                scale: 0.90,
+                ..Default::default()
+            }),
+        ),
+    );
+    for family in [FontFamily::Proportional, FontFamily::Monospace] {
+        fonts
+            .families
+            .insert(family, vec!["Ubuntu-Light".into(), "egui-icons".into()]);
+    }
+    fonts
+}
+
 /// The explorer plus what the page was last told.
 pub struct PageApp {
     app: ExplorerApp,
@@ -23,6 +50,7 @@ impl PageApp {
     ) -> Result<Self, Box<dyn std::error::Error + Send + Sync>> {
         // the desktop explorer's look, whatever the browser's colour scheme
         cc.egui_ctx.set_theme(egui::Theme::Dark);
+        cc.egui_ctx.set_fonts(fonts());
         let app = ExplorerApp::new(cc, Options::scene(scene))?;
         Ok(PageApp {
             app,
