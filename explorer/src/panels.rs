@@ -194,6 +194,19 @@ pub fn parameters(
                 .text("impact v0 (m/s)"),
         );
     }
+    if let Some(t) = &mut p.traction {
+        let mut mpa = *t * 1e-6;
+        let moved = ui
+            .add(
+                egui::Slider::new(&mut mpa, 0.0..=1000.0)
+                    .clamping(egui::SliderClamping::Never)
+                    .text("traction t0 (MPa)"),
+            )
+            .changed();
+        if moved && (mpa - *t * 1e-6).abs() > 1e-9 * (1.0 + mpa.abs()) {
+            *t = mpa * 1e6;
+        }
+    }
     if let Some(d) = &mut p.duration {
         let mut us = *d * 1e6;
         let moved = ui

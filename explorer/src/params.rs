@@ -1,7 +1,7 @@
 //! The parameters the explorer lets the user move: the contact interfaces' friction coefficient
 //! (on every contact, or on one zone of the scene, [`FrictionTargets`]) and initial gap, the
-//! amplitude of the prescribed impact velocity and the duration of a boundary pulse (METHOD §5
-//! laws), and the
+//! amplitudes of the prescribed impact velocity and tractions and the duration of a boundary
+//! pulse (METHOD §5 laws), and the
 //! LATIN settings k, μ, tolerance, the macro problem switch, the time scheme's ρ∞ and the shape of
 //! the search direction (METHOD §2, §3, §7, §9). Applying them never refactorizes unless k, ρ∞ or
 //! the direction shape changes (the macro problem is built the first time it is switched on, and
@@ -25,6 +25,8 @@ pub struct Params {
     pub gap: Option<f64>,
     /// Amplitude of the prescribed impact velocity, m/s (None: nothing is prescribed).
     pub velocity: Option<f64>,
+    /// Amplitude of the prescribed tractions, Pa (None: nothing is prescribed).
+    pub traction: Option<f64>,
     /// Duration of the boundary pulses, s (None: the scene prescribes no pulse).
     pub duration: Option<f64>,
     /// The solver settings; the panel moves k, μ, the tolerance, the macro switch, ρ∞ and the
@@ -41,6 +43,7 @@ impl Params {
             zones: problem.zones.iter().map(|z| z.name.clone()).collect(),
             gap: Parameter::Gap.current(problem),
             velocity: Parameter::VelocityAmplitude.current(problem),
+            traction: Parameter::TractionAmplitude.current(problem),
             duration: Parameter::PulseDuration.current(problem),
             settings: *settings,
         }
@@ -52,6 +55,7 @@ impl Params {
             Parameter::Friction => self.friction,
             Parameter::Gap => self.gap,
             Parameter::VelocityAmplitude => self.velocity,
+            Parameter::TractionAmplitude => self.traction,
             Parameter::PulseDuration => self.duration,
         }
     }
@@ -188,6 +192,7 @@ mod tests {
             zones: vec!["upper".to_string(), "lower".to_string()].into(),
             gap: None,
             velocity: None,
+            traction: None,
             duration: None,
             settings: Settings::defaults(1.0),
         };

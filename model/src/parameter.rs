@@ -1,6 +1,7 @@
 //! The interface parameters a user moves without refactorizing anything (METHOD §5 laws, §8
 //! multiresolution): the friction coefficient and initial gap of every contact interface, the
-//! amplitude of every non-zero prescribed velocity and the duration of every boundary pulse. One type reads a parameter's current value
+//! amplitude of every non-zero prescribed velocity and of every non-zero prescribed traction,
+//! and the duration of every boundary pulse. One type reads a parameter's current value
 //! from a problem and applies a new one, validated; the solver, sweeps, the explorer and the
 //! monolithic reference all go through it.
 
@@ -18,6 +19,8 @@ pub enum Parameter {
     Gap,
     /// Amplitude V0 (m/s) of every non-zero prescribed velocity.
     VelocityAmplitude,
+    /// Amplitude t0 (Pa) of every non-zero prescribed traction.
+    TractionAmplitude,
     /// Duration T (s) of every standard pulse a boundary prescribes (a trapezoid's rise scales
     /// with it).
     PulseDuration,
@@ -25,23 +28,25 @@ pub enum Parameter {
 
 impl Parameter {
     /// Every parameter, in the order tables and panels list them.
-    pub const ALL: [Parameter; 4] = [
+    pub const ALL: [Parameter; 5] = [
         Self::Friction,
         Self::Gap,
         Self::VelocityAmplitude,
+        Self::TractionAmplitude,
         Self::PulseDuration,
     ];
 
-    /// Parses `f`/`friction`, `gap`/`g0`, `v0`/`velocity`, `duration`.
+    /// Parses `f`/`friction`, `gap`/`g0`, `v0`/`velocity`, `t0`/`traction`, `duration`.
     pub fn parse(name: &str) -> Result<Self> {
         match name {
             "f" | "friction" => Ok(Self::Friction),
             "gap" | "g0" => Ok(Self::Gap),
             "v0" | "velocity" => Ok(Self::VelocityAmplitude),
+            "t0" | "traction" => Ok(Self::TractionAmplitude),
             "duration" => Ok(Self::PulseDuration),
             _ => Err(LopinError::setting(
                 "param",
-                format!("unknown parameter `{name}` (sweepable: f, gap, v0, duration)"),
+                format!("unknown parameter `{name}` (sweepable: f, gap, v0, t0, duration)"),
             )),
         }
     }
@@ -52,6 +57,7 @@ impl Parameter {
             Self::Friction => "f",
             Self::Gap => "gap",
             Self::VelocityAmplitude => "v0",
+            Self::TractionAmplitude => "t0",
             Self::PulseDuration => "duration",
         }
     }
@@ -62,6 +68,7 @@ impl Parameter {
             Self::Friction => "",
             Self::Gap => "m",
             Self::VelocityAmplitude => "m/s",
+            Self::TractionAmplitude => "Pa",
             Self::PulseDuration => "s",
         }
     }
@@ -84,6 +91,10 @@ impl Parameter {
             )),
             Self::VelocityAmplitude if !value.is_finite() => Err(LopinError::setting(
                 "v0",
+                format!("must be finite, got {value:?}"),
+            )),
+            Self::TractionAmplitude if !value.is_finite() => Err(LopinError::setting(
+                "t0",
                 format!("must be finite, got {value:?}"),
             )),
             Self::PulseDuration if !(value.is_finite() && value > 0.0) => Err(LopinError::setting(
@@ -128,6 +139,12 @@ impl Parameter {
             Self::VelocityAmplitude => boundary_laws
                 .filter_map(|law| match law {
                     DofLaw::Velocity(f) if f.amplitude != 0.0 => Some(f.amplitude.abs()),
+                    _ => None,
+                })
+                .reduce(f64::max),
+            Self::TractionAmplitude => boundary_laws
+                .filter_map(|law| match law {
+                    DofLaw::Traction(f) if f.amplitude != 0.0 => Some(f.amplitude.abs()),
                     _ => None,
                 })
                 .reduce(f64::max),
@@ -176,7 +193,7 @@ impl Parameter {
                     ));
                 }
             }
-            Self::Friction => {}
+            Self::Friction | Self::TractionAmplitude => {}
         }
         Ok(())
     }
@@ -203,6 +220,7 @@ impl Parameter {
             Self::Friction => problem.set_friction(value, zone),
             Self::Gap => problem.set_gap(value, zone),
             Self::VelocityAmplitude => problem.set_velocity_amplitude(value, zone),
+            Self::TractionAmplitude => problem.set_traction_amplitude(value, zone),
             Self::PulseDuration => problem.set_pulse_duration(value, zone),
         }
         Ok(())

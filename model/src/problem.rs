@@ -32,8 +32,8 @@ pub struct Problem {
     pub time: TimeGrid,
     /// Time-integration scheme of every substructure (METHOD §2; ρ∞ = 1: trapezoidal).
     pub scheme: TimeScheme,
-    /// Sign of every boundary dof's prescribed velocity as built (per interface, per dof), so
-    /// that the amplitude can be swept through zero.
+    /// Sign of every boundary dof's prescribed velocity or traction as built (per interface,
+    /// per dof), so that an amplitude can be swept through zero.
     pub velocity_signs: Vec<Vec<f64>>,
     /// Named groups of interfaces with parameters of their own ([`crate::interfaces::zone`]).
     pub zones: Vec<crate::interfaces::zone::Zone>,
@@ -89,13 +89,14 @@ impl Problem {
         }
     }
 
-    /// Records the direction of every prescribed velocity (call once after building).
+    /// Records the direction of every prescribed velocity and traction (call once after
+    /// building).
     pub fn record_velocity_signs(&mut self) {
         self.velocity_signs = self
             .interfaces
             .iter()
             .map(|i| match &i.law {
-                Law::Boundary(d) => d.iter().map(BoundaryDof::velocity_sign).collect(),
+                Law::Boundary(d) => d.iter().map(BoundaryDof::load_sign).collect(),
                 _ => Vec::new(),
             })
             .collect();
@@ -115,6 +116,25 @@ impl Problem {
             if let Law::Boundary(d) = &mut i.law {
                 for (dof, &sign) in d.iter_mut().zip(signs) {
                     dof.set_velocity_amplitude(v, sign);
+                }
+            }
+        }
+    }
+
+    /// Sets the amplitude of every non-zero prescribed traction (of `zone` only, if given) to
+    /// `t` (Pa), keeping the directions of the scene.
+    pub(crate) fn set_traction_amplitude(&mut self, t: f64, zone: Option<usize>) {
+        let reached = self.reached(zone);
+        for ((i, signs), _) in self
+            .interfaces
+            .iter_mut()
+            .zip(&self.velocity_signs)
+            .zip(reached)
+            .filter(|x| x.1)
+        {
+            if let Law::Boundary(d) = &mut i.law {
+                for (dof, &sign) in d.iter_mut().zip(signs) {
+                    dof.set_traction_amplitude(t, sign);
                 }
             }
         }

@@ -1,5 +1,5 @@
 //! A parameter of the interface laws as users name it: one interface parameter
-//! ([`crate::Parameter`]: f, gap, v0, duration, METHOD §5) on every interface it applies to, or on one
+//! ([`crate::Parameter`]: f, gap, v0, t0, duration, METHOD §5) on every interface it applies to, or on one
 //! zone's ([`crate::interfaces::zone`]), written `f` or `f@ZONE` ([`Target`]); and a value given
 //! to one, `f@ZONE=0.3` ([`Assignment`]), which a run applies to its built problem. Studies move
 //! targets; runs and the explorer assign them.
@@ -60,7 +60,9 @@ impl Target {
                     target.label,
                     match parameter {
                         Parameter::VelocityAmplitude => "no non-zero prescribed velocity",
-                        _ => "no contact interface",
+                        Parameter::TractionAmplitude => "no non-zero prescribed traction",
+                        Parameter::PulseDuration => "no boundary pulse",
+                        Parameter::Friction | Parameter::Gap => "no contact interface",
                     }
                 ),
             ));

@@ -280,3 +280,26 @@ fn the_pulse_duration_is_a_parameter() {
         "{e}"
     );
 }
+
+/// `t0` sets a traction's amplitude, here a half-sine pulse of traction on the end of `bar`:
+/// twice the amplitude, twice every velocity (the bar is linear), to 1e-9 of the peak.
+#[test]
+fn the_traction_amplitude_scales_a_traction_pulse() {
+    let drive = ComponentSpec {
+        velocity: None,
+        traction: Some(4e8),
+        ..pulse(PulseKind::HalfSine, None)
+    };
+    let (mut solver, one) = solved(&bar(drive));
+    assert_eq!(
+        Parameter::TractionAmplitude.current(solver.problem()),
+        Some(4e8)
+    );
+    assert_eq!(Parameter::VelocityAmplitude.current(solver.problem()), None);
+    solver
+        .set_parameter(Parameter::TractionAmplitude, 8e8)
+        .expect("t0");
+    let two = solver.solve(None).expect("solves");
+    let (off, peak) = largest_difference((&solver, &one), (&solver, &two), 2.0);
+    assert!(peak > 1.0 && off <= 1e-9 * peak, "{off:e} of {peak:e}");
+}

@@ -46,6 +46,16 @@ impl BoundaryDof {
         }
     }
 
+    /// Sets the amplitude of a non-zero prescribed traction to `t` times the direction the
+    /// scene gave it (velocities are left alone).
+    pub fn set_traction_amplitude(&mut self, t: f64, nominal_sign: f64) {
+        if let DofLaw::Traction(f) = &mut self.law {
+            if nominal_sign != 0.0 {
+                f.amplitude = nominal_sign * t;
+            }
+        }
+    }
+
     /// Sets the duration of a pulse (a trapezoid's rise scaled with it; other shapes are left
     /// alone).
     pub fn set_pulse_duration(&mut self, t: f64) {
@@ -56,11 +66,13 @@ impl BoundaryDof {
         }
     }
 
-    /// Sign of the prescribed velocity amplitude (0 for zero velocities and tractions).
-    pub fn velocity_sign(&self) -> f64 {
-        match &self.law {
-            DofLaw::Velocity(f) if f.amplitude != 0.0 => f.amplitude.signum(),
-            _ => 0.0,
+    /// Sign of the prescribed velocity's or traction's amplitude (0 where it is zero).
+    pub fn load_sign(&self) -> f64 {
+        let (DofLaw::Velocity(f) | DofLaw::Traction(f)) = &self.law;
+        if f.amplitude != 0.0 {
+            f.amplitude.signum()
+        } else {
+            0.0
         }
     }
 }
