@@ -174,17 +174,8 @@ pub fn parameters(
         }
     }
     if let Some(g) = &mut p.gap {
-        let mut um = *g * 1e6;
-        let moved = ui
-            .add(
-                egui::Slider::new(&mut um, 0.0..=500.0)
-                    .clamping(egui::SliderClamping::Never)
-                    .text("gap g0 (µm)"),
-            )
-            .changed();
-        // only a real move changes the gap (not the µm round trip)
-        if moved && (um - *g * 1e6).abs() > 1e-9 * (1.0 + um.abs()) {
-            *g = um * 1e-6;
+        if let Some(v) = scaled_slider(ui, *g, 1e6, 0.0..=500.0, "gap g0 (µm)") {
+            *g = v;
         }
     }
     if let Some(v) = &mut p.velocity {
@@ -195,30 +186,16 @@ pub fn parameters(
         );
     }
     if let Some(t) = &mut p.traction {
-        let mut mpa = *t * 1e-6;
-        let moved = ui
-            .add(
-                egui::Slider::new(&mut mpa, 0.0..=1000.0)
-                    .clamping(egui::SliderClamping::Never)
-                    .text("traction t0 (MPa)"),
-            )
-            .changed();
-        if moved && (mpa - *t * 1e-6).abs() > 1e-9 * (1.0 + mpa.abs()) {
-            *t = mpa * 1e6;
+        if let Some(v) = scaled_slider(ui, *t, 1e-6, 0.0..=1000.0, "traction t0 (MPa)") {
+            *t = v;
         }
     }
     if let Some(d) = &mut p.duration {
-        let mut us = *d * 1e6;
-        let moved = ui
-            .add(
-                egui::Slider::new(&mut us, 0.1..=1000.0)
-                    .logarithmic(true)
-                    .clamping(egui::SliderClamping::Never)
-                    .text("pulse duration (µs)"),
-            )
-            .changed();
-        if moved && us > 0.0 && (us - *d * 1e6).abs() > 1e-9 * us {
-            *d = us * 1e-6;
+        let range = 0.1..=1000.0;
+        if let Some(v) =
+            scaled_slider(ui, *d, 1e6, range, "pulse duration (µs)").filter(|&v| v > 0.0)
+        {
+            *d = v;
         }
     }
     ui.add(
@@ -443,4 +420,27 @@ pub fn sizes(
 /// The rail of a slider whose response covers `rect` (rail then value box and label).
 pub(crate) fn slider_rail(rect: egui::Rect, rail_width: f32) -> egui::Rect {
     egui::Rect::from_min_size(rect.min, egui::vec2(rail_width, rect.height()))
+}
+
+/// A slider showing `value` × `scale` (a unit of its own: µm, MPa, µs; logarithmic when its
+/// range starts above 0), unclamped; the new value in SI units when the user really moved it
+/// (not the unit's round trip).
+fn scaled_slider(
+    ui: &mut egui::Ui,
+    value: f64,
+    scale: f64,
+    range: std::ops::RangeInclusive<f64>,
+    text: &str,
+) -> Option<f64> {
+    let mut shown = value * scale;
+    let logarithmic = *range.start() > 0.0;
+    let moved = ui
+        .add(
+            egui::Slider::new(&mut shown, range)
+                .logarithmic(logarithmic)
+                .clamping(egui::SliderClamping::Never)
+                .text(text),
+        )
+        .changed();
+    (moved && (shown - value * scale).abs() > 1e-9 * (1.0 + shown.abs())).then(|| shown / scale)
 }

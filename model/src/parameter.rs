@@ -182,16 +182,8 @@ impl Parameter {
                 }
             }
             Self::PulseDuration => {
-                let run = problem.time.end();
-                if value > run * (1.0 + 1e-9) {
-                    return Err(LopinError::setting(
-                        "duration",
-                        format!(
-                            "a pulse of {value:?} s is longer than the run ({run:.4e} s): the run \
-                             would end inside it"
-                        ),
-                    ));
-                }
+                crate::scene::validate::check_pulse_duration(value, problem.time.end())
+                    .map_err(|reason| LopinError::setting("duration", reason))?;
             }
             Self::Friction | Self::TractionAmplitude => {}
         }

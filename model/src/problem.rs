@@ -34,7 +34,7 @@ pub struct Problem {
     pub scheme: TimeScheme,
     /// Sign of every boundary dof's prescribed velocity or traction as built (per interface,
     /// per dof), so that an amplitude can be swept through zero.
-    pub velocity_signs: Vec<Vec<f64>>,
+    pub load_signs: Vec<Vec<f64>>,
     /// Named groups of interfaces with parameters of their own ([`crate::interfaces::zone`]).
     pub zones: Vec<crate::interfaces::zone::Zone>,
 }
@@ -91,8 +91,8 @@ impl Problem {
 
     /// Records the direction of every prescribed velocity and traction (call once after
     /// building).
-    pub fn record_velocity_signs(&mut self) {
-        self.velocity_signs = self
+    pub fn record_load_signs(&mut self) {
+        self.load_signs = self
             .interfaces
             .iter()
             .map(|i| match &i.law {
@@ -105,49 +105,39 @@ impl Problem {
     /// Sets the amplitude of every non-zero prescribed velocity (of `zone` only, if given) to
     /// `v` (m/s), keeping the directions of the scene.
     pub(crate) fn set_velocity_amplitude(&mut self, v: f64, zone: Option<usize>) {
-        let reached = self.reached(zone);
-        for ((i, signs), _) in self
-            .interfaces
-            .iter_mut()
-            .zip(&self.velocity_signs)
-            .zip(reached)
-            .filter(|x| x.1)
-        {
-            if let Law::Boundary(d) = &mut i.law {
-                for (dof, &sign) in d.iter_mut().zip(signs) {
-                    dof.set_velocity_amplitude(v, sign);
-                }
-            }
-        }
+        self.each_boundary_dof(zone, |dof, sign| dof.set_velocity_amplitude(v, sign));
     }
 
     /// Sets the amplitude of every non-zero prescribed traction (of `zone` only, if given) to
     /// `t` (Pa), keeping the directions of the scene.
     pub(crate) fn set_traction_amplitude(&mut self, t: f64, zone: Option<usize>) {
-        let reached = self.reached(zone);
-        for ((i, signs), _) in self
-            .interfaces
-            .iter_mut()
-            .zip(&self.velocity_signs)
-            .zip(reached)
-            .filter(|x| x.1)
-        {
-            if let Law::Boundary(d) = &mut i.law {
-                for (dof, &sign) in d.iter_mut().zip(signs) {
-                    dof.set_traction_amplitude(t, sign);
-                }
-            }
-        }
+        self.each_boundary_dof(zone, |dof, sign| dof.set_traction_amplitude(t, sign));
     }
 
     /// Sets the duration of every pulse a boundary prescribes (of `zone` only, if given),
     /// scaling a trapezoid's rise with it.
     pub(crate) fn set_pulse_duration(&mut self, t: f64, zone: Option<usize>) {
+        self.each_boundary_dof(zone, |dof, _| dof.set_pulse_duration(t));
+    }
+
+    /// Calls `change` on every boundary dof (of `zone` only, if given) with the sign of its
+    /// amplitude as built.
+    fn each_boundary_dof(
+        &mut self,
+        zone: Option<usize>,
+        mut change: impl FnMut(&mut BoundaryDof, f64),
+    ) {
         let reached = self.reached(zone);
-        for (i, _) in self.interfaces.iter_mut().zip(reached).filter(|x| x.1) {
+        for ((i, signs), _) in self
+            .interfaces
+            .iter_mut()
+            .zip(&self.load_signs)
+            .zip(reached)
+            .filter(|x| x.1)
+        {
             if let Law::Boundary(d) = &mut i.law {
-                for dof in d.iter_mut() {
-                    dof.set_pulse_duration(t);
+                for (dof, &sign) in d.iter_mut().zip(signs) {
+                    change(dof, sign);
                 }
             }
         }

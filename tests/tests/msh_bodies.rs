@@ -98,10 +98,10 @@ fn problem_from_file(binary: bool) -> Problem {
             steps: 40,
         },
         scheme: TimeScheme::new(1.0),
-        velocity_signs: Vec::new(),
+        load_signs: Vec::new(),
         zones: Vec::new(),
     };
-    p.record_velocity_signs();
+    p.record_load_signs();
     p
 }
 

@@ -19,8 +19,6 @@ pub struct SavedStates {
     dir: PathBuf,
     /// What every state belongs to.
     owner: Fingerprint,
-    /// Whether this process writes them (not a rank that only reads what rank 0 wrote).
-    writes: bool,
 }
 
 /// Why a saved state cannot be used: the file and the reason.
@@ -31,12 +29,11 @@ pub struct Unusable {
 }
 
 impl SavedStates {
-    /// The states in `dir` of the run `owner` names; `writes`: whether [`Self::save`] writes.
-    pub fn new(dir: &Path, owner: Fingerprint, writes: bool) -> Self {
+    /// The states in `dir` of the run `owner` names.
+    pub fn new(dir: &Path, owner: Fingerprint) -> Self {
         Self {
             dir: dir.to_path_buf(),
             owner,
-            writes,
         }
     }
 
@@ -44,9 +41,7 @@ impl SavedStates {
     /// hold to tell a replaced file from the one it was written with.
     pub fn save(&self, name: &str, state: &InterfaceState) -> anyhow::Result<String> {
         let bytes = encode_state(state, self.owner);
-        if self.writes {
-            super::write_atomic(&self.dir.join(name), &bytes)?;
-        }
+        super::write_atomic(&self.dir.join(name), &bytes)?;
         Ok(checksum_text(&bytes))
     }
 
@@ -113,16 +108,12 @@ mod tests {
         std::fs::create_dir_all(&dir).expect("tmp");
         let (problem, state) = problem_and_state();
         let owner = Fingerprint::of_parts(&[("test", b"run a")]);
-        let saved = SavedStates::new(dir.as_path(), owner, true);
+        let saved = SavedStates::new(dir.as_path(), owner);
         let sum = saved.save("s.state", &state).expect("writes");
         let back = saved.load("s.state", Some(&sum), &problem).expect("reads");
         assert_eq!(back.subs, state.subs);
 
-        let other = SavedStates::new(
-            dir.as_path(),
-            Fingerprint::of_parts(&[("test", b"run b")]),
-            true,
-        );
+        let other = SavedStates::new(dir.as_path(), Fingerprint::of_parts(&[("test", b"run b")]));
         let e = other
             .load("s.state", None, &problem)
             .expect_err("another run");

@@ -83,9 +83,8 @@ pub enum Shape {
         duration: f64,
         rise: f64,
     },
-    /// Points (t, value) with increasing t, interpolated linearly, 0 before the first point's
-    /// value is reached at t = 0 (the first value applies from t = 0 when the first time is 0;
-    /// before a later first time the function rises linearly from 0), the last value held.
+    /// Points (t, value) with increasing t, interpolated linearly from (0, 0) (or from the first
+    /// point when it is at t = 0), the last value held.
     Table(Arc<[[f64; 2]]>),
 }
 
@@ -122,16 +121,6 @@ impl TimeFunction {
                 rise,
             } => self.amplitude * pulse_value(*kind, *duration, *rise, t),
             Shape::Table(points) => self.amplitude * table_value(points, t),
-        }
-    }
-
-    /// The time after which the function no longer changes (a ramp's end, a pulse's
-    /// duration, a table's last time).
-    pub fn settles_at(&self) -> f64 {
-        match &self.shape {
-            Shape::Ramp { time, .. } => *time,
-            Shape::Pulse { duration, .. } => *duration,
-            Shape::Table(points) => points.last().map_or(0.0, |p| p[0]),
         }
     }
 
@@ -269,7 +258,6 @@ mod tests {
                 );
             }
             assert_eq!(f.value(-1e-6), 0.0);
-            assert_eq!(f.settles_at(), d);
         }
         // the half-sine and haversine peak mid-pulse, the sawtooth at its end
         assert!((pulse(PulseKind::HalfSine, 0.0).value(d / 2.0) - a).abs() < 1e-12 * a);
@@ -302,7 +290,6 @@ mod tests {
             assert!((f.value(t) - exact(t)).abs() < 1e-12, "t = {t}");
         }
         assert_eq!(f.value(-1.0), 0.0);
-        assert_eq!(f.settles_at(), 4e-3);
         let at_zero = TimeFunction {
             amplitude: 1.0,
             shape: Shape::Table(vec![[0.0, 5.0], [1.0, 7.0]].into()),

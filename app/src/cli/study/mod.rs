@@ -319,18 +319,13 @@ pub fn state_name(i: usize) -> String {
     format!("{STATES_DIR}/config-{i:04}.state")
 }
 
-/// The converged states of the study `plan` in `dir`, written where `keep` (every rank writes
-/// its own chains').
-fn saved_states(dir: &std::path::Path, plan: &Plan, keep: bool) -> anyhow::Result<SavedStates> {
-    if keep {
-        let states = dir.join(STATES_DIR);
-        std::fs::create_dir_all(&states)
-            .with_context(|| format!("creating {}", states.display()))?;
-    }
+/// The converged states of the study `plan` in `dir` (every rank writes its own chains').
+fn saved_states(dir: &std::path::Path, plan: &Plan) -> anyhow::Result<SavedStates> {
+    let states = dir.join(STATES_DIR);
+    std::fs::create_dir_all(&states).with_context(|| format!("creating {}", states.display()))?;
     Ok(SavedStates::new(
         dir,
         fingerprint::of_json("study plan", plan),
-        keep,
     ))
 }
 
@@ -400,12 +395,17 @@ pub fn study(args: &StudyArgs) -> anyhow::Result<ExitCode> {
         );
     }
     let make = || Solver::new(problem.clone(), settings);
-    let states = saved_states(&dir, &plan, !args.no_states)?;
+    // None: --no-states
+    let states = (!args.no_states)
+        .then(|| saved_states(&dir, &plan))
+        .transpose()?;
     let write_error: Mutex<Option<anyhow::Error>> = Mutex::new(None);
     let finished = |mut o: Outcome, state: &InterfaceState| -> lopin_core::Result<()> {
         o.chain = mine[o.chain];
         // the state first: a row is the configuration's commit point
-        let saved = states.save(&state_name(o.index), state).map(drop);
+        let saved = states
+            .as_ref()
+            .map_or(Ok(()), |s| s.save(&state_name(o.index), state).map(drop));
         let mut r = rows.lock().unwrap_or_else(|p| p.into_inner());
         if let Err(e) = saved.and_then(|()| r.append(&design, &o)) {
             let msg = format!("{e:#}");
@@ -443,21 +443,16 @@ pub fn study(args: &StudyArgs) -> anyhow::Result<ExitCode> {
         compare_cold: args.compare_cold,
         predictor,
     };
-    let resumed_state = |i: usize| {
-        if args.no_states {
-            return None;
-        }
-        match states.load(&state_name(i), None, &problem) {
-            Ok(state) => Some(state),
-            Err(u) => {
-                eprintln!(
-                    "{}: {}: configuration {i} is kept, the configurations after it start from \
+    let resumed_state = |i: usize| match states.as_ref()?.load(&state_name(i), None, &problem) {
+        Ok(state) => Some(state),
+        Err(u) => {
+            eprintln!(
+                "{}: {}: configuration {i} is kept, the configurations after it start from \
                      another",
-                    u.path.display(),
-                    u.reason
-                );
-                None
-            }
+                u.path.display(),
+                u.reason
+            );
+            None
         }
     };
     let resumed = Resumed {

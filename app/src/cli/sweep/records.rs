@@ -402,7 +402,7 @@ impl Store {
             dir: dir.to_path_buf(),
             sweep_hash,
             writes,
-            states: SavedStates::new(dir, sweep_hash, writes),
+            states: SavedStates::new(dir, sweep_hash),
         }
     }
 

@@ -66,10 +66,10 @@ pub(crate) fn build_expanded(spec: &SceneSpec, source: &str, rho_inf: f64) -> Re
         interfaces,
         time: spec.time,
         scheme: TimeScheme::new(rho_inf),
-        velocity_signs: Vec::new(),
+        load_signs: Vec::new(),
         zones,
     };
-    problem.record_velocity_signs();
+    problem.record_load_signs();
     Ok(problem)
 }
 

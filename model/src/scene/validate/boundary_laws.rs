@@ -185,7 +185,7 @@ fn pulse(
 
 /// A table's points: at least one, finite, times from 0 and strictly increasing.
 #[cfg(feature = "shock")]
-pub fn check_table(points: &[[f64; 2]]) -> std::result::Result<(), String> {
+fn check_table(points: &[[f64; 2]]) -> std::result::Result<(), String> {
     if points.is_empty() {
         return Err("table: give at least one [t, value] point".into());
     }

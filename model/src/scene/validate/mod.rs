@@ -16,7 +16,7 @@ mod relations;
 
 pub use boundary_laws::boundary_dofs;
 pub(crate) use joins::pair_key;
-pub use ranges::{check_friction, check_k_against, FRICTION_RANGE, K_RANGE};
+pub use ranges::{check_friction, check_k_against, check_pulse_duration, FRICTION_RANGE, K_RANGE};
 pub use relations::check_mesh_time_step;
 
 use crate::error::Result;

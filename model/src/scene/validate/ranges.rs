@@ -51,6 +51,19 @@ pub fn check_k_against(k: f64, k0: f64) -> std::result::Result<(), String> {
     ))
 }
 
+/// Checks that a pulse of `duration` seconds ends within a run of `run` seconds (the
+/// scene's `duration` and the `duration` parameter); the reason says the longest accepted.
+pub fn check_pulse_duration(duration: f64, run: f64) -> std::result::Result<(), String> {
+    if duration <= run * (1.0 + 1e-9) {
+        return Ok(());
+    }
+    let run = short(run);
+    Err(format!(
+        "a pulse of {duration:?} s is longer than the run ({run} s = time.steps × time.dt): the \
+         run would end inside it; at most {run} s, or a longer run"
+    ))
+}
+
 /// `x` with at most 6 significant digits, in the shortest form that keeps them.
 pub(crate) fn short(x: f64) -> String {
     format!("{:?}", format!("{x:.5e}").parse::<f64>().unwrap_or(x))

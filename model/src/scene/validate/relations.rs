@@ -298,15 +298,10 @@ pub(super) fn check_ramps(spec: &SceneSpec, source: &str) -> Result<()> {
         for (axis, c) in bc.components() {
             let Some(c) = c else { continue };
             #[cfg(feature = "shock")]
-            if let Some(d) = c.duration.filter(|&d| d > duration * (1.0 + 1e-9)) {
-                return Err(LopinError::scene(
-                    source,
-                    format!("boundary[{i}].{axis}.duration"),
-                    format!(
-                        "a pulse of {d:?} s is longer than the run ({run} s = time.steps × \
-                         time.dt): the run would end inside it; at most {run} s, or a longer run"
-                    ),
-                ));
+            if let Some(d) = c.duration {
+                super::ranges::check_pulse_duration(d, duration).map_err(|reason| {
+                    LopinError::scene(source, format!("boundary[{i}].{axis}.duration"), reason)
+                })?;
             }
             if c.ramp_time > duration * (1.0 + 1e-9) {
                 return Err(LopinError::scene(
