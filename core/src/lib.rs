@@ -81,6 +81,7 @@
 //!         young: 210e9,
 //!         poisson: 0.3,
 //!         density: 7800.0,
+//!         ..MaterialSpec::default()
 //!     }],
 //!     granular: None,
 //!     granular_poly: None,

@@ -2,8 +2,10 @@
 //! more linear stage driven by ŝ (METHOD §6 "at convergence"), replayed per substructure up to the
 //! step wanted. Energies use the exact discrete identity of METHOD §2: the work of the boundary
 //! forces is ((1 − γ) F_{m−1} + γ F_m)·(u_m − u_{m−1}) (½ (F_m + F_{m−1})·Δt/2 (W_m + W_{m−1})
-//! for the trapezoidal rule, γ = ½); with a dissipative scheme E_m − E_0 − W_m is minus the
-//! energy the scheme removed, never positive ([`crate::time::time_scheme`]); interface forces are
+//! for the trapezoidal rule, γ = ½), and the same rule applied to C v gives the energy D_m the
+//! Rayleigh damping dissipates, so that E_m + D_m = E_0 + W_m; with a dissipative scheme
+//! E_m + D_m − E_0 − W_m is minus the energy the scheme removed, never positive
+//! ([`crate::time::time_scheme`]); interface forces are
 //! reported as step averages (F_m + F_{m−1})/2 (METHOD §2, §10 "force ringing").
 
 use crate::counters::Instant;
@@ -12,7 +14,7 @@ use crate::interfaces::interface::Law;
 use crate::mesh::{dot, Element, Vec3};
 use crate::par;
 use crate::solver::{Solution, Solver};
-use crate::stages::linear_stage::{linear_stage, LinearInput, LinearWork, StepVisitor};
+use crate::stages::linear_stage::{linear_stage, LinearInput, LinearWork, StepVisitor, SubState};
 use crate::state::TraceHistory;
 use crate::substructure::{SideRef, Substructure};
 
@@ -202,6 +204,56 @@ pub fn hex_centre_stress(sub: &Substructure, nodes: &[usize; 8], u: &[f64]) -> [
     hex8::centre_stress(&x, &sub.material, &ue)
 }
 
+/// The energy a substructure's Rayleigh damping dissipates, step by step: the scheme's work of
+/// the force C v = α M v + β K v (K v from the carried c_K K v), the same rule as the boundary
+/// work.
+struct Viscous<'a> {
+    sub: &'a Substructure,
+    c_k: f64,
+    /// C v, v and u of the previous step.
+    prev: [Vec<f64>; 3],
+    cv: Vec<f64>,
+    /// Cumulative dissipated energy per step.
+    dissipated: Vec<f64>,
+}
+
+impl<'a> Viscous<'a> {
+    /// None for an undamped substructure.
+    fn new(sub: &'a Substructure, c_k: f64, steps: usize) -> Option<Self> {
+        (!sub.material.damping.is_none()).then(|| Self {
+            sub,
+            c_k,
+            prev: std::array::from_fn(|_| vec![0.0; sub.ndof()]),
+            cv: vec![0.0; sub.ndof()],
+            dissipated: vec![0.0; steps + 1],
+        })
+    }
+
+    /// Adds step m (m = 0: the initial state, nothing dissipated yet).
+    fn step(&mut self, m: usize, st: &SubState, dt: f64, (trapezoidal, gamma): (bool, f64)) {
+        let d = self.sub.material.damping;
+        for i in 0..self.cv.len() {
+            self.cv[i] = d.alpha * self.sub.mass[i] * st.v[i] + d.beta * st.ckv[i] / self.c_k;
+        }
+        let [cvp, vp, up] = &mut self.prev;
+        if m > 0 {
+            let dd: f64 = (0..self.cv.len())
+                .map(|i| {
+                    if trapezoidal {
+                        0.25 * dt * (self.cv[i] + cvp[i]) * (st.v[i] + vp[i])
+                    } else {
+                        (gamma * self.cv[i] + (1.0 - gamma) * cvp[i]) * (st.u[i] - up[i])
+                    }
+                })
+                .sum();
+            self.dissipated[m] = self.dissipated[m - 1] + dd;
+        }
+        cvp.copy_from_slice(&self.cv);
+        vp.copy_from_slice(&st.v);
+        up.copy_from_slice(&st.u);
+    }
+}
+
 /// The energy balance of the converged fields.
 pub fn energy(solver: &Solver, sol: &Solution) -> EnergyHistory {
     let t = Instant::now();
@@ -210,11 +262,12 @@ pub fn energy(solver: &Solver, sol: &Solution) -> EnergyHistory {
     let dt = p.time.dt;
     let trapezoidal = p.scheme.is_trapezoidal();
     let gamma = p.scheme.parameters().1;
+    let c_k = p.step_coefficients().stiffness;
     let dist = solver.distribution();
     let per_sub = par::map_range(p.subs.len(), |i| {
         if !dist.holds_sub(i) {
             // −0: the neutral element of the sum over the ranks
-            return (vec![-0.0; n + 1], vec![-0.0; n + 1], vec![-0.0; n + 1]);
+            return std::array::from_fn(|_| vec![-0.0; n + 1]);
         }
         let sub = &p.subs[i];
         // boundary trace ranges of this substructure
@@ -233,7 +286,11 @@ pub fn energy(solver: &Solver, sol: &Solution) -> EnergyHistory {
         let mut prev_f = vec![0.0; sub.trace_len()];
         let mut prev_w = vec![0.0; sub.trace_len()];
         let mut prev_u = vec![0.0; sub.trace_len()];
+        let mut viscous = Viscous::new(sub, c_k, n);
         replay(solver, sol, i, n, &mut |m, st, f, w| {
+            if let Some(d) = viscous.as_mut() {
+                d.step(m, st, dt, (trapezoidal, gamma));
+            }
             kin[m] = 0.5
                 * st.v
                     .iter()
@@ -265,35 +322,31 @@ pub fn energy(solver: &Solver, sol: &Solution) -> EnergyHistory {
                 }
             }
         });
-        (kin, strain, work)
+        let damping = viscous.map_or_else(|| vec![0.0; n + 1], |d| d.dissipated);
+        [kin, strain, work, damping]
     });
     let mut e = EnergyHistory {
         kinetic: vec![0.0; n + 1],
         strain: vec![0.0; n + 1],
         input_work: vec![0.0; n + 1],
+        damping: vec![0.0; n + 1],
     };
     // distributed: every substructure's histories from its rank, added in index order
     let per_sub = if dist.is_single() {
         per_sub
     } else {
-        let mut flat: Vec<f64> = per_sub
-            .iter()
-            .flat_map(|(k, s, w)| k.iter().chain(s).chain(w).copied())
-            .collect();
+        let mut flat: Vec<f64> = per_sub.iter().flatten().flatten().copied().collect();
         dist.all_sum(&mut flat);
-        flat.chunks_exact(3 * (n + 1))
-            .map(|c| {
-                let (k, sw) = c.split_at(n + 1);
-                let (s, w) = sw.split_at(n + 1);
-                (k.to_vec(), s.to_vec(), w.to_vec())
-            })
+        flat.chunks_exact(4 * (n + 1))
+            .map(|c| std::array::from_fn(|q| c[q * (n + 1)..(q + 1) * (n + 1)].to_vec()))
             .collect()
     };
-    for (k, s, w) in per_sub {
+    for [k, s, w, d] in per_sub {
         for m in 0..=n {
             e.kinetic[m] += k[m];
             e.strain[m] += s[m];
             e.input_work[m] += w[m];
+            e.damping[m] += d[m];
         }
     }
     solver.counters().add_post(t.elapsed().as_secs_f64());

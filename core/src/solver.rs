@@ -98,7 +98,7 @@ impl Solver {
         settings.validate_for(&problem)?;
         let start = Instant::now();
         // the scheme of the settings: S and the macro problem are built for it
-        problem.scheme = settings.scheme();
+        problem.set_scheme(settings.scheme());
         search_direction::apply(&mut problem, settings.directions);
         let classes = factor_classes(&problem.subs);
         let distribution = match ranks {
@@ -153,7 +153,7 @@ impl Solver {
         check_distributable(&settings, &self.distribution)?;
         let start = Instant::now();
         let (scheme, directions) = (self.problem.scheme, self.settings.directions);
-        self.problem.scheme = settings.scheme();
+        self.problem.set_scheme(settings.scheme());
         if settings.directions != directions {
             // the classes of identical operators may split or merge with the direction
             search_direction::apply(&mut self.problem, settings.directions);
@@ -161,12 +161,12 @@ impl Solver {
             if let Err(e) = self.refactorize(settings.k) {
                 search_direction::apply(&mut self.problem, directions);
                 self.classes = classes;
-                self.problem.scheme = scheme;
+                self.problem.set_scheme(scheme);
                 return Err(e);
             }
         } else if settings.k != self.settings.k || self.problem.scheme != scheme {
             if let Err(e) = self.refactorize(settings.k) {
-                self.problem.scheme = scheme;
+                self.problem.set_scheme(scheme);
                 return Err(e);
             }
         }

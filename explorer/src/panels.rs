@@ -190,6 +190,12 @@ pub fn parameters(
             *t = v;
         }
     }
+    if let Some(a) = &mut p.acceleration {
+        let g = 1.0 / STANDARD_GRAVITY;
+        if let Some(v) = scaled_slider(ui, *a, g, 0.0..=1000.0, "base acceleration a0 (g)") {
+            *a = v;
+        }
+    }
     if let Some(d) = &mut p.duration {
         let range = 0.1..=1000.0;
         if let Some(v) =
@@ -424,6 +430,9 @@ pub(crate) fn slider_rail(rect: egui::Rect, rail_width: f32) -> egui::Rect {
 
 /// A slider showing `value` × `scale` (a unit of its own: µm, MPa, µs; logarithmic when its
 /// range starts above 0), unclamped; the new value in SI units when the user really moved it
+/// Standard gravity (m/s²): the base acceleration slider reads in g.
+const STANDARD_GRAVITY: f64 = 9.80665;
+
 /// (not the unit's round trip).
 fn scaled_slider(
     ui: &mut egui::Ui,

@@ -1,7 +1,7 @@
 //! The parameters the explorer lets the user move: the contact interfaces' friction coefficient
 //! (on every contact, or on one zone of the scene, [`FrictionTargets`]) and initial gap, the
-//! amplitudes of the prescribed impact velocity and tractions and the duration of a boundary
-//! pulse (METHOD §5 laws), and the
+//! amplitudes of the prescribed impact velocity, tractions and base accelerations and the
+//! duration of a boundary pulse (METHOD §5 laws), and the
 //! LATIN settings k, μ, tolerance, the macro problem switch, the time scheme's ρ∞ and the shape of
 //! the search direction (METHOD §2, §3, §7, §9). Applying them never refactorizes unless k, ρ∞ or
 //! the direction shape changes (the macro problem is built the first time it is switched on, and
@@ -27,6 +27,8 @@ pub struct Params {
     pub velocity: Option<f64>,
     /// Amplitude of the prescribed tractions, Pa (None: nothing is prescribed).
     pub traction: Option<f64>,
+    /// Amplitude of the prescribed (base) accelerations, m/s² (None: nothing is prescribed).
+    pub acceleration: Option<f64>,
     /// Duration of the boundary pulses, s (None: the scene prescribes no pulse).
     pub duration: Option<f64>,
     /// The solver settings; the panel moves k, μ, the tolerance, the macro switch, ρ∞ and the
@@ -44,6 +46,7 @@ impl Params {
             gap: Parameter::Gap.current(problem),
             velocity: Parameter::VelocityAmplitude.current(problem),
             traction: Parameter::TractionAmplitude.current(problem),
+            acceleration: Parameter::AccelerationAmplitude.current(problem),
             duration: Parameter::PulseDuration.current(problem),
             settings: *settings,
         }
@@ -56,6 +59,7 @@ impl Params {
             Parameter::Gap => self.gap,
             Parameter::VelocityAmplitude => self.velocity,
             Parameter::TractionAmplitude => self.traction,
+            Parameter::AccelerationAmplitude => self.acceleration,
             Parameter::PulseDuration => self.duration,
         }
     }
@@ -193,6 +197,7 @@ mod tests {
             gap: None,
             velocity: None,
             traction: None,
+            acceleration: None,
             duration: None,
             settings: Settings::defaults(1.0),
         };

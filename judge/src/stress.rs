@@ -17,7 +17,6 @@
 //! `quick()` is the CI test set; `full()` adds the longer cases run by `lopin stress`.
 
 use lopin_core::counters::Instant;
-use lopin_core::elements::material::Material;
 use lopin_core::error::Result;
 use lopin_core::post;
 use lopin_core::scene::{self, SceneSpec};
@@ -276,14 +275,7 @@ fn transit_time(s: &SceneSpec) -> f64 {
     let c = s
         .materials
         .iter()
-        .map(|m| {
-            Material {
-                young: m.young,
-                poisson: m.poisson,
-                density: m.density,
-            }
-            .p_wave_speed()
-        })
+        .map(|m| m.material().p_wave_speed())
         .fold(0.0, f64::max);
     h / c
 }

@@ -13,6 +13,9 @@ pub struct EnergyHistory {
     pub strain: Vec<f64>,
     /// Cumulative work of the boundary interfaces (imposed velocities and tractions).
     pub input_work: Vec<f64>,
+    /// Cumulative energy dissipated by the Rayleigh damping, the scheme's work of C v:
+    /// Σ ((1 − γ) C v_{m−1} + γ C v_m)·(u_m − u_{m−1}) (all 0 without damping).
+    pub damping: Vec<f64>,
 }
 
 impl EnergyHistory {
@@ -79,6 +82,8 @@ pub struct Summary {
     pub strain_end: f64,
     /// Total input work of the boundary interfaces at the end.
     pub input_work: f64,
+    /// Energy dissipated by the Rayleigh damping at the end.
+    pub damping_work: f64,
     /// max_m E_m / (E_0 + W_in,m).
     pub max_total_over_input: f64,
     /// Largest slip on contact interfaces (0 without contact).
@@ -97,6 +102,7 @@ impl Summary {
             kinetic_end: e.kinetic[n],
             strain_end: e.strain[n],
             input_work: e.input_work[n],
+            damping_work: e.damping[n],
             max_total_over_input: e.max_total_over_input(),
             max_slip: c.iter().map(ContactHistory::max_slip).fold(0.0, f64::max),
             peak_normal_force: c

@@ -1,14 +1,13 @@
 //! The interface parameters a user moves without refactorizing anything (METHOD §5 laws, §8
 //! multiresolution): the friction coefficient and initial gap of every contact interface, the
-//! amplitude of every non-zero prescribed velocity and of every non-zero prescribed traction,
-//! and the duration of every boundary pulse. One type reads a parameter's current value
+//! amplitude of every non-zero prescribed velocity, traction and acceleration, and the duration
+//! of every boundary pulse. One type reads a parameter's current value
 //! from a problem and applies a new one, validated; the solver, sweeps, the explorer and the
 //! monolithic reference all go through it.
 
 use crate::error::{LopinError, Result};
-use crate::interfaces::interface::{DofLaw, Law};
+use crate::interfaces::interface::{BoundaryDof, DofLaw, Law};
 use crate::problem::Problem;
-use crate::time::time_function::Shape;
 
 /// A parameter of the interfaces' laws.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -21,6 +20,8 @@ pub enum Parameter {
     VelocityAmplitude,
     /// Amplitude t0 (Pa) of every non-zero prescribed traction.
     TractionAmplitude,
+    /// Amplitude a0 (m/s²) of every non-zero prescribed acceleration.
+    AccelerationAmplitude,
     /// Duration T (s) of every standard pulse a boundary prescribes (a trapezoid's rise scales
     /// with it).
     PulseDuration,
@@ -28,25 +29,28 @@ pub enum Parameter {
 
 impl Parameter {
     /// Every parameter, in the order tables and panels list them.
-    pub const ALL: [Parameter; 5] = [
+    pub const ALL: [Parameter; 6] = [
         Self::Friction,
         Self::Gap,
         Self::VelocityAmplitude,
         Self::TractionAmplitude,
+        Self::AccelerationAmplitude,
         Self::PulseDuration,
     ];
 
-    /// Parses `f`/`friction`, `gap`/`g0`, `v0`/`velocity`, `t0`/`traction`, `duration`.
+    /// Parses `f`/`friction`, `gap`/`g0`, `v0`/`velocity`, `t0`/`traction`,
+    /// `a0`/`acceleration`, `duration`.
     pub fn parse(name: &str) -> Result<Self> {
         match name {
             "f" | "friction" => Ok(Self::Friction),
             "gap" | "g0" => Ok(Self::Gap),
             "v0" | "velocity" => Ok(Self::VelocityAmplitude),
             "t0" | "traction" => Ok(Self::TractionAmplitude),
+            "a0" | "acceleration" => Ok(Self::AccelerationAmplitude),
             "duration" => Ok(Self::PulseDuration),
             _ => Err(LopinError::setting(
                 "param",
-                format!("unknown parameter `{name}` (sweepable: f, gap, v0, t0, duration)"),
+                format!("unknown parameter `{name}` (sweepable: f, gap, v0, t0, a0, duration)"),
             )),
         }
     }
@@ -58,6 +62,7 @@ impl Parameter {
             Self::Gap => "gap",
             Self::VelocityAmplitude => "v0",
             Self::TractionAmplitude => "t0",
+            Self::AccelerationAmplitude => "a0",
             Self::PulseDuration => "duration",
         }
     }
@@ -69,6 +74,7 @@ impl Parameter {
             Self::Gap => "m",
             Self::VelocityAmplitude => "m/s",
             Self::TractionAmplitude => "Pa",
+            Self::AccelerationAmplitude => "m/s²",
             Self::PulseDuration => "s",
         }
     }
@@ -97,6 +103,10 @@ impl Parameter {
                 "t0",
                 format!("must be finite, got {value:?}"),
             )),
+            Self::AccelerationAmplitude if !value.is_finite() => Err(LopinError::setting(
+                "a0",
+                format!("must be finite, got {value:?}"),
+            )),
             Self::PulseDuration if !(value.is_finite() && value > 0.0) => Err(LopinError::setting(
                 "duration",
                 format!("must be positive, got {value:?}"),
@@ -121,14 +131,14 @@ impl Parameter {
             .enumerate()
             .filter(|&(i, _)| reached(i))
             .map(|(_, iface)| iface);
-        let boundary_laws = interfaces
+        let boundary_dofs = interfaces
             .clone()
             .filter_map(|i| match &i.law {
                 Law::Boundary(d) => Some(d),
                 _ => None,
             })
-            .flatten()
-            .map(|d| &d.law);
+            .flatten();
+        let boundary_laws = boundary_dofs.clone().map(|d| &d.law);
         let contact = interfaces.clone().find_map(|i| match &i.law {
             Law::Contact(c) => Some(c),
             _ => None,
@@ -138,7 +148,17 @@ impl Parameter {
             Self::Gap => contact.map(|c| c.gap.first().copied().unwrap_or(0.0)),
             Self::VelocityAmplitude => boundary_laws
                 .filter_map(|law| match law {
-                    DofLaw::Velocity(f) if f.amplitude != 0.0 => Some(f.amplitude.abs()),
+                    DofLaw::Velocity(f) if f.amplitude != 0.0 && f.acceleration().is_none() => {
+                        Some(f.amplitude.abs())
+                    }
+                    _ => None,
+                })
+                .reduce(f64::max),
+            Self::AccelerationAmplitude => boundary_laws
+                .filter_map(|law| match law {
+                    DofLaw::Velocity(f) if f.amplitude != 0.0 && f.acceleration().is_some() => {
+                        Some(f.amplitude.abs())
+                    }
                     _ => None,
                 })
                 .reduce(f64::max),
@@ -148,13 +168,8 @@ impl Parameter {
                     _ => None,
                 })
                 .reduce(f64::max),
-            Self::PulseDuration => boundary_laws
-                .filter_map(|law| match law {
-                    DofLaw::Velocity(f) | DofLaw::Traction(f) => match f.shape {
-                        Shape::Pulse { duration, .. } => Some(duration),
-                        _ => None,
-                    },
-                })
+            Self::PulseDuration => boundary_dofs
+                .filter_map(BoundaryDof::pulse_duration)
                 .reduce(f64::max),
         }
     }
@@ -185,7 +200,7 @@ impl Parameter {
                 crate::scene::validate::check_pulse_duration(value, problem.time.end())
                     .map_err(|reason| LopinError::setting("duration", reason))?;
             }
-            Self::Friction | Self::TractionAmplitude => {}
+            Self::Friction | Self::TractionAmplitude | Self::AccelerationAmplitude => {}
         }
         Ok(())
     }
@@ -213,6 +228,7 @@ impl Parameter {
             Self::Gap => problem.set_gap(value, zone),
             Self::VelocityAmplitude => problem.set_velocity_amplitude(value, zone),
             Self::TractionAmplitude => problem.set_traction_amplitude(value, zone),
+            Self::AccelerationAmplitude => problem.set_acceleration_amplitude(value, zone),
             Self::PulseDuration => problem.set_pulse_duration(value, zone),
         }
         Ok(())

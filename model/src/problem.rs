@@ -40,6 +40,29 @@ pub struct Problem {
 }
 
 impl Problem {
+    /// Sets the time scheme, and integrates every velocity prescribed as an acceleration with
+    /// its rule ([`crate::time::time_function::Integrated`]).
+    pub fn set_scheme(&mut self, scheme: TimeScheme) {
+        self.scheme = scheme;
+        self.integrate_accelerations();
+    }
+
+    /// Integrates every velocity prescribed as an acceleration on the time grid with the
+    /// scheme's rule (those already integrated with it are kept).
+    pub fn integrate_accelerations(&mut self) {
+        let (dt, steps) = (self.time.dt, self.time.steps);
+        let gamma = self.scheme.parameters().1;
+        for iface in &mut self.interfaces {
+            if let Law::Boundary(dofs) = &mut iface.law {
+                for d in dofs {
+                    if let crate::interfaces::interface::DofLaw::Velocity(f) = &mut d.law {
+                        f.integrate(dt, gamma, steps);
+                    }
+                }
+            }
+        }
+    }
+
     /// The coefficients of one step of the scheme on the time grid.
     pub fn step_coefficients(&self) -> StepCoefficients {
         self.scheme.coefficients(self.time.dt)
@@ -112,6 +135,12 @@ impl Problem {
     /// `t` (Pa), keeping the directions of the scene.
     pub(crate) fn set_traction_amplitude(&mut self, t: f64, zone: Option<usize>) {
         self.each_boundary_dof(zone, |dof, sign| dof.set_traction_amplitude(t, sign));
+    }
+
+    /// Sets the amplitude of every non-zero prescribed acceleration (of `zone` only, if given)
+    /// to `a` (m/s²), keeping the directions of the scene.
+    pub(crate) fn set_acceleration_amplitude(&mut self, a: f64, zone: Option<usize>) {
+        self.each_boundary_dof(zone, |dof, sign| dof.set_acceleration_amplitude(a, sign));
     }
 
     /// Sets the duration of every pulse a boundary prescribes (of `zone` only, if given),

@@ -1,6 +1,6 @@
-//! A substructure: a mesh, one isotropic material, its lumped mass M and stiffness K
-//! (METHOD §1–§2), its initial velocity, and its trace: the interface dofs that B selects,
-//! with their areas A (METHOD §11 layout: sides concatenated, node-major, component-minor).
+//! A substructure: a mesh, one isotropic material (with its Rayleigh damping), its lumped mass M
+//! and stiffness K (METHOD §1–§2), its initial velocity, and its trace: the interface dofs that B
+//! selects, with their areas A (METHOD §11 layout: sides concatenated, node-major, component-minor).
 
 use std::collections::HashMap;
 use std::sync::Arc;
@@ -197,20 +197,29 @@ impl Substructure {
         v
     }
 
-    /// Lower-triangle triplets of S = c_M M + c_K K + Bᵀ A K B, K = k diag(trace_k) (METHOD §4; 2/Δt M + Δt/2 K for
-    /// the trapezoidal rule, [`crate::time::time_scheme`]).
+    /// The coefficients (c_M + α, c_K + β) of M and K in the step operator S: the scheme's, plus
+    /// the material's Rayleigh damping C = α M + β K ([`crate::elements::rayleigh`]).
+    pub fn operator_coefficients(&self, time: &StepCoefficients) -> (f64, f64) {
+        let d = self.material.damping;
+        (time.mass + d.alpha, time.stiffness + d.beta)
+    }
+
+    /// Lower-triangle triplets of S = (c_M + α) M + (c_K + β) K + Bᵀ A K B, K = k diag(trace_k)
+    /// (METHOD §4; 2/Δt M + Δt/2 K for the trapezoidal rule without damping,
+    /// [`crate::time::time_scheme`]).
     pub fn operator_triplets(
         &self,
         time: &StepCoefficients,
         k: f64,
     ) -> Vec<Triplet<usize, usize, f64>> {
+        let (cm, ck) = self.operator_coefficients(time);
         let mut t: Vec<Triplet<usize, usize, f64>> = self
             .stiffness
             .lower_entries()
-            .map(|(r, c, v)| Triplet::new(r, c, time.stiffness * v))
+            .map(|(r, c, v)| Triplet::new(r, c, ck * v))
             .collect();
         for (i, &m) in self.mass.iter().enumerate() {
-            t.push(Triplet::new(i, i, time.mass * m));
+            t.push(Triplet::new(i, i, cm * m));
         }
         for ((&d, &a), &s) in self
             .trace_dofs

@@ -1,6 +1,6 @@
 //! A parameter of the interface laws as users name it: one interface parameter
-//! ([`crate::Parameter`]: f, gap, v0, t0, duration, METHOD §5) on every interface it applies to, or on one
-//! zone's ([`crate::interfaces::zone`]), written `f` or `f@ZONE` ([`Target`]); and a value given
+//! ([`crate::Parameter`]: f, gap, v0, t0, a0, duration, METHOD §5) on every interface it applies
+//! to, or on one zone's ([`crate::interfaces::zone`]), written `f` or `f@ZONE` ([`Target`]); and a value given
 //! to one, `f@ZONE=0.3` ([`Assignment`]), which a run applies to its built problem. Studies move
 //! targets; runs and the explorer assign them.
 
@@ -61,6 +61,7 @@ impl Target {
                     match parameter {
                         Parameter::VelocityAmplitude => "no non-zero prescribed velocity",
                         Parameter::TractionAmplitude => "no non-zero prescribed traction",
+                        Parameter::AccelerationAmplitude => "no non-zero prescribed acceleration",
                         Parameter::PulseDuration => "no boundary pulse",
                         Parameter::Friction | Parameter::Gap => "no contact interface",
                     }

@@ -79,6 +79,7 @@ impl Bar1d {
                     young: s.young,
                     poisson: 0.0,
                     density: s.density,
+                    ..MaterialSpec::default()
                 });
             }
             bodies.push(BodySpec {

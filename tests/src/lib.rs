@@ -266,3 +266,31 @@ pub fn assert_same_contact_pairs(whole: &Problem, split: &Problem) {
         "the split partitions the contact"
     );
 }
+
+/// `bar` refined `r` times in x (and its step divided by `r`), its end x = 0 driven along x by
+/// `drive`.
+pub fn bar_driven(drive: lopin_core::scene::spec::ComponentSpec, r: usize) -> SceneSpec {
+    let mut spec = scene::load("bar").expect("scene");
+    spec.refine(r).expect("refine");
+    spec.time.dt /= r as f64;
+    spec.time.steps *= r;
+    spec.boundaries[0].x = Some(drive);
+    spec
+}
+
+/// The largest |scale × a − b| over the velocities of every step and substructure of two
+/// solutions, and the largest |b|.
+pub fn largest_difference(
+    a: (&Solver, &Solution),
+    b: (&Solver, &Solution),
+    scale: f64,
+) -> (f64, f64) {
+    let (va, vb) = (
+        post::velocity_history(a.0, a.1),
+        post::velocity_history(b.0, b.1),
+    );
+    let (va, vb) = (va.iter().flatten().flatten(), vb.iter().flatten().flatten());
+    va.zip(vb).fold((0.0f64, 0.0f64), |(d, p), (x, y)| {
+        (d.max((scale * x - y).abs()), p.max(y.abs()))
+    })
+}

@@ -35,6 +35,7 @@ fn steel() -> Material {
         young: 210e9,
         poisson: 0.3,
         density: 7800.0,
+        damping: Default::default(),
     }
 }
 

@@ -74,6 +74,7 @@ fn uniform_strain_is_reproduced_on_an_irregular_tetrahedral_mesh() {
         young: 70e9,
         poisson: 0.33,
         density: 2700.0,
+        damping: Default::default(),
     };
     let mut volume = 0.0;
     for (id, t) in tets.iter().enumerate() {

@@ -11,24 +11,14 @@ use lopin_core::{post, scene, Parameter, Solution, Solver};
 use lopin_judge::compare::compare;
 use lopin_reference::exact::{l2_error, BarExact};
 use lopin_reference::monolithic::Monolithic;
-use lopin_tests::solve;
+use lopin_tests::{bar_driven, largest_difference, solve};
 
 /// Pulse duration (s): a fifth of the 15 µs run, about 20 elements of the refined bar.
 const DURATION: f64 = 3e-6;
 
 /// `bar` refined 4 times in x (and its step divided by 4), driven by `drive`.
 fn bar(drive: ComponentSpec) -> scene::SceneSpec {
-    bar_refined(drive, 4)
-}
-
-/// `bar` refined `r` times in x (and its step divided by `r`), driven by `drive`.
-fn bar_refined(drive: ComponentSpec, r: usize) -> scene::SceneSpec {
-    let mut spec = scene::load("bar").expect("scene");
-    spec.refine(r).expect("refine");
-    spec.time.dt /= r as f64;
-    spec.time.steps *= r;
-    spec.boundaries[0].x = Some(drive);
-    spec
+    bar_driven(drive, 4)
 }
 
 fn pulse(kind: PulseKind, rise: Option<f64>) -> ComponentSpec {
@@ -50,22 +40,9 @@ fn solved(spec: &scene::SceneSpec) -> (Solver, Solution) {
     (solver, sol)
 }
 
-/// The largest |scale × a − b| over the velocities of every step and substructure of two
-/// solutions, and the largest |b|.
-fn largest_difference(a: (&Solver, &Solution), b: (&Solver, &Solution), scale: f64) -> (f64, f64) {
-    let (va, vb) = (
-        post::velocity_history(a.0, a.1),
-        post::velocity_history(b.0, b.1),
-    );
-    let (va, vb) = (va.iter().flatten().flatten(), vb.iter().flatten().flatten());
-    va.zip(vb).fold((0.0f64, 0.0f64), |(d, p), (x, y)| {
-        (d.max((scale * x - y).abs()), p.max(y.abs()))
-    })
-}
-
 /// The L2 error against d'Alembert of the bar refined `r` times under `drive`.
 fn error(drive: ComponentSpec, r: usize) -> f64 {
-    let (solver, sol) = solved(&bar_refined(drive, r));
+    let (solver, sol) = solved(&bar_driven(drive, r));
     let p = solver.problem();
     let exact = BarExact::for_problem(p).expect("the front stays inside the bar");
     let history = post::velocity_history(&solver, &sol);

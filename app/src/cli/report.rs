@@ -57,7 +57,14 @@ pub struct Energy {
     pub kinetic_end: f64,
     pub strain_end: f64,
     pub input_work: f64,
+    #[serde(skip_serializing_if = "is_zero")]
+    pub damping_work: f64,
     pub max_total_over_input: f64,
+}
+
+/// True for an undamped run's dissipated energy, left out of the report.
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
 }
 
 /// The "contact" object of a report.
@@ -74,6 +81,7 @@ impl From<&Summary> for Energy {
             kinetic_end: s.kinetic_end,
             strain_end: s.strain_end,
             input_work: s.input_work,
+            damping_work: s.damping_work,
             max_total_over_input: s.max_total_over_input,
         }
     }
@@ -338,6 +346,9 @@ impl Rows {
         self.row("kinetic energy (end)", format!("{:.4e} J", s.kinetic_end));
         self.row("strain energy (end)", format!("{:.4e} J", s.strain_end));
         self.row("input work", format!("{:.4e} J", s.input_work));
+        if s.damping_work != 0.0 {
+            self.row("damping dissipated", format!("{:.4e} J", s.damping_work));
+        }
         self.row(
             "max E/(E0 + input)",
             format!("{:.6}", s.max_total_over_input),

@@ -60,6 +60,7 @@ pub fn cube(n: usize, elements: usize, steps: usize) -> SceneSpec {
             young: 30e9,
             poisson: 0.2,
             density: 2400.0,
+            ..MaterialSpec::default()
         }],
         mesh_bodies: Vec::new(),
         granular_poly: None,

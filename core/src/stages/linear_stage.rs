@@ -9,8 +9,11 @@
 //! [`predict`] (the micro solve) and a [`complete`]; between the two the two-scale linear stage
 //! (METHOD §9) solves its macro problem and passes the correction v_m = v¹ + k Z_E α_E.
 //!
+//! Rayleigh damping C = α M + β K adds C v_m to the equilibrium: S becomes
+//! (c_M + α) M + (c_K + β) K + k Bᵀ A B and r_m is unchanged ([`crate::elements::rayleigh`]).
+//!
 //! No product with K is needed in the march: the solve itself gives
-//! c_K K v_m = rhs_m − c_M M v_m − k Bᵀ A B v_m, and
+//! (c_K + β) K v_m = rhs_m − (c_M + α) M v_m − k Bᵀ A B v_m, hence c_K K v_m, and
 //! K u_m = K u_{m−1} + d_V K v_{m−1} + d_A K a_{m−1} + c_K K v_m (trapezoidal:
 //! (Δt/2) K (v_{m−1} + v_m)), K a_m = e_V K (v_m − v_{m−1}) − e_A K a_{m−1},
 //! so K(u + d_V v + d_A a) is carried from step to step at O(n) cost (only the triangular solves
@@ -42,25 +45,36 @@ pub struct SubState {
 }
 
 impl SubState {
-    /// The initial state: u₀ = 0, v₀ given, a₀ = M⁻¹(f_ext,0 − K u₀) = 0 (no interface force at
-    /// t₀, no body load).
+    /// The initial state: u₀ = 0, v₀ given, a₀ = M⁻¹(f_ext,0 − K u₀ − C v₀) = −M⁻¹ C v₀ (no
+    /// interface force at t₀, no body load; 0 without damping).
     pub fn initial(sub: &Substructure, time: &StepCoefficients) -> Self {
         let n = sub.ndof();
         let v = sub.initial_velocity_field();
-        let mut ckv = vec![0.0; n];
-        sub.stiffness.mul_into(&v, &mut ckv);
-        ckv.iter_mut().for_each(|x| *x *= time.stiffness);
+        let mut kv = vec![0.0; n];
+        sub.stiffness.mul_into(&v, &mut kv);
+        let d = sub.material.damping;
+        let mut a = vec![0.0; n];
+        let mut ka = if time.trapezoidal {
+            Vec::new()
+        } else {
+            vec![0.0; n]
+        };
+        if !d.is_none() {
+            for i in 0..n {
+                a[i] = -(d.alpha * v[i] + d.beta * kv[i] / sub.mass[i]);
+            }
+            if !time.trapezoidal {
+                sub.stiffness.mul_into(&a, &mut ka);
+            }
+        }
+        kv.iter_mut().for_each(|x| *x *= time.stiffness);
         Self {
             u: vec![0.0; n],
             v,
-            a: vec![0.0; n],
+            a,
             ku: vec![0.0; n],
-            ckv,
-            ka: if time.trapezoidal {
-                Vec::new()
-            } else {
-                vec![0.0; n]
-            },
+            ckv: kv,
+            ka,
         }
     }
 }
@@ -261,9 +275,10 @@ pub fn complete(
         }
     }
     let mut sums = IndicatorSums::default();
-    // rhs now holds v_m; y becomes c_K K v_m = rhs_m − c_M M v_m − k BᵀAB v_m
+    // rhs now holds v_m; y becomes (c_K + β) K v_m = rhs_m − (c_M + α) M v_m − k BᵀAB v_m
+    let (cm, ck) = sub.operator_coefficients(c);
     for i in 0..n {
-        y[i] -= c.mass * sub.mass[i] * rhs[i];
+        y[i] -= cm * sub.mass[i] * rhs[i];
     }
     let r = out.at(m);
     for (j, &d) in sub.trace_dofs.iter().enumerate() {
@@ -275,6 +290,11 @@ pub fn complete(
         out.w[r.start + j] = w;
         out.f[r.start + j] = f;
         sums.add_dof(a, kj, (f, w), (fhat[j], what[j]));
+    }
+    if ck != c.stiffness {
+        // damped by β: c_K K v_m from (c_K + β) K v_m
+        let scale = c.stiffness / ck;
+        y.iter_mut().for_each(|x| *x *= scale);
     }
     // K u_m = K u + d_V K v + d_A K a + c_K K v_m; K a_m = e_V K (v_m − v) − e_A K a (carried
     // only for a dissipative scheme; the trapezoidal rule keeps its formulas as written)

@@ -206,6 +206,7 @@ mod tests {
             young: 2.0,
             poisson: 0.3,
             density: 5.0,
+            damping: Default::default(),
         };
         let k = stiffness(&x, &mat);
         // translation along y and rotation about z
@@ -243,6 +244,7 @@ mod tests {
             young: 100.0,
             poisson: 0.25,
             density: 1.0,
+            damping: Default::default(),
         };
         let mut u = [0.0; 24];
         for a in 0..8 {

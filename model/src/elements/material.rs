@@ -1,7 +1,9 @@
 //! Isotropic linear elastic material (E, ν, ρ): Hooke matrix, wave speeds and impedance
-//! (METHOD §1, §10: k0 = √(ρE)).
+//! (METHOD §1, §10: k0 = √(ρE)), and its Rayleigh damping ([`Rayleigh`]).
 
 use serde::{Deserialize, Serialize};
+
+pub use super::rayleigh::Rayleigh;
 
 /// An isotropic linear elastic material.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -12,6 +14,9 @@ pub struct Material {
     pub poisson: f64,
     /// Density ρ (kg/m³).
     pub density: f64,
+    /// Rayleigh damping C = α M + β K (none by default).
+    #[serde(default)]
+    pub damping: Rayleigh,
 }
 
 impl Material {

@@ -714,6 +714,7 @@ mod tests {
             young: 210e9,
             poisson: 0.3,
             density: 7800.0,
+            damping: Default::default(),
         };
         Substructure::assemble(
             body.into(),

@@ -3,7 +3,7 @@
 //! substructure's trace vector (node-major, component-minor: METHOD §11 data layout).
 
 use crate::mesh::Vec3;
-use crate::time::time_function::{Shape, TimeFunction};
+use crate::time::time_function::{Integrated, Shape, TimeFunction};
 
 /// One side of an interface: which substructure, where its dofs sit in that substructure's trace
 /// vector, and which mesh nodes they belong to.
@@ -40,8 +40,18 @@ impl BoundaryDof {
     /// scene gave it (zero velocities, e.g. clamps, and tractions are left alone).
     pub fn set_velocity_amplitude(&mut self, v: f64, nominal_sign: f64) {
         if let DofLaw::Velocity(f) = &mut self.law {
-            if nominal_sign != 0.0 {
+            if nominal_sign != 0.0 && f.acceleration().is_none() {
                 f.amplitude = nominal_sign * v;
+            }
+        }
+    }
+
+    /// Sets the amplitude of a non-zero prescribed acceleration to `a` times the direction the
+    /// scene gave it (other laws are left alone).
+    pub fn set_acceleration_amplitude(&mut self, a: f64, nominal_sign: f64) {
+        if let DofLaw::Velocity(f) = &mut self.law {
+            if nominal_sign != 0.0 && f.acceleration().is_some() {
+                f.amplitude = nominal_sign * a;
             }
         }
     }
@@ -60,9 +70,37 @@ impl BoundaryDof {
     /// alone).
     pub fn set_pulse_duration(&mut self, t: f64) {
         let (DofLaw::Velocity(f) | DofLaw::Traction(f)) = &mut self.law;
-        if let Shape::Pulse { duration, rise, .. } = &mut f.shape {
-            *rise *= t / *duration;
-            *duration = t;
+        let rescale = |shape: &mut Shape| {
+            if let Shape::Pulse { duration, rise, .. } = shape {
+                *rise *= t / *duration;
+                *duration = t;
+            }
+        };
+        match &mut f.shape {
+            // an acceleration pulse: its velocity integrated again on the same grid
+            Shape::Integrated(i) => {
+                let mut again = Integrated::new(i.acceleration.clone());
+                rescale(&mut again.acceleration);
+                if again.acceleration == i.acceleration {
+                    return;
+                }
+                let (rule, steps) = (i.rule, i.velocity.len().saturating_sub(1));
+                f.shape = Shape::Integrated(std::sync::Arc::new(again));
+                if let Some((dt, gamma)) = rule {
+                    f.integrate(dt, gamma, steps);
+                }
+            }
+            shape => rescale(shape),
+        }
+    }
+
+    /// The pulse duration of the law's time function (of its acceleration, for a velocity
+    /// integrated from one), if it is a pulse.
+    pub fn pulse_duration(&self) -> Option<f64> {
+        let (DofLaw::Velocity(f) | DofLaw::Traction(f)) = &self.law;
+        match f.acceleration().unwrap_or(&f.shape) {
+            Shape::Pulse { duration, .. } => Some(*duration),
+            _ => None,
         }
     }
 

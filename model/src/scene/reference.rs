@@ -212,6 +212,34 @@ const RULES: &[Rule] = &[
         outside: out(Boxes, "material[0].density", "0.0"),
         inside: None,
     },
+    Rule {
+        key: "material.alpha",
+        unit: "1/s",
+        range: "≥ 0 (not with `damping_ratio`)",
+        outside: out(Boxes, "material[0].alpha", "-1.0"),
+        inside: out(Boxes, "material[0].alpha", "0.0"),
+    },
+    Rule {
+        key: "material.beta",
+        unit: "s",
+        range: "≥ 0 (not with `damping_ratio`)",
+        outside: out(Boxes, "material[0].beta", "-1e-9"),
+        inside: out(Boxes, "material[0].beta", "0.0"),
+    },
+    Rule {
+        key: "material.damping_ratio",
+        unit: "",
+        range: "(0, 1), with `damping_band`",
+        outside: out(Boxes, "material[0].damping_ratio", "1.0"),
+        inside: None,
+    },
+    Rule {
+        key: "material.damping_band",
+        unit: "Hz",
+        range: "0 < f1 < f2, with `damping_ratio`",
+        outside: out(Boxes, "material[0].damping_band", "[100.0, 10.0]"),
+        inside: None,
+    },
     // [[body]]
     Rule {
         key: "body.name",
@@ -396,6 +424,13 @@ const RULES: &[Rule] = &[
         unit: "Pa",
         range: "finite, small against E; not with `velocity`",
         outside: out(Boxes, "boundary[0].x.traction", "-1e12"),
+        inside: None,
+    },
+    Rule {
+        key: "boundary.x.acceleration",
+        unit: "m/s²",
+        range: "finite; the body at rest along that axis; not with `velocity` or `traction`",
+        outside: out(Boxes, "boundary[0].z.acceleration", "-500.0"),
         inside: None,
     },
     Rule {

@@ -163,7 +163,7 @@ impl SolverSpec {
 
 /// A named material.
 #[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MaterialSpec {
     /// Name referenced by bodies.
@@ -174,6 +174,40 @@ pub struct MaterialSpec {
     pub poisson: f64,
     /// Density ρ (kg/m³).
     pub density: f64,
+    /// Rayleigh damping on the mass, α (1/s): C = α M + β K.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub alpha: Option<f64>,
+    /// Rayleigh damping on the stiffness, β (s).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub beta: Option<f64>,
+    /// Damping ratio ζ reached at both ends of `damping_band` (α and β computed from them:
+    /// α = 2ζ ω₁ω₂/(ω₁ + ω₂), β = 2ζ/(ω₁ + ω₂)); instead of `alpha` and `beta`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub damping_ratio: Option<f64>,
+    /// The two frequencies (Hz) where the damping ratio is `damping_ratio`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub damping_band: Option<[f64; 2]>,
+}
+
+impl MaterialSpec {
+    /// The material (its damping from `alpha`/`beta`, or from `damping_ratio` over
+    /// `damping_band`; none when neither is given).
+    pub fn material(&self) -> crate::elements::material::Material {
+        use crate::elements::rayleigh::Rayleigh;
+        let damping = match (self.damping_ratio, self.damping_band) {
+            (Some(z), Some(band)) => Rayleigh::from_ratio(z, band),
+            _ => Rayleigh {
+                alpha: self.alpha.unwrap_or(0.0),
+                beta: self.beta.unwrap_or(0.0),
+            },
+        };
+        crate::elements::material::Material {
+            young: self.young,
+            poisson: self.poisson,
+            density: self.density,
+            damping,
+        }
+    }
 }
 
 /// A box-shaped body.
@@ -330,9 +364,9 @@ fn is_false(b: &bool) -> bool {
     !*b
 }
 
-/// A prescribed velocity or traction on one component, with its time function: a ramp (the
-/// default), a standard pulse, or a table of points (pulses and tables are read from scene text
-/// with the `shock` feature; the web build's built-in scenes use none).
+/// A prescribed velocity, traction or acceleration on one component, with its time function: a
+/// ramp (the default), a standard pulse, or a table of points (accelerations, pulses and tables
+/// are read from scene text with the `shock` feature; the web build's built-in scenes use none).
 #[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -343,6 +377,12 @@ pub struct ComponentSpec {
     /// Traction amplitude (Pa, force per area on the body).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub traction: Option<f64>,
+    /// Acceleration amplitude (m/s²), for base excitation: the dofs move from rest with this
+    /// acceleration times the time function, its velocity integrated by the time scheme's
+    /// own rule (the body's initial velocity along the component must be 0).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(not(feature = "shock"), serde(skip))]
+    pub acceleration: Option<f64>,
     /// Ramp profile ("cosine" default, "linear", "step").
     #[serde(default)]
     pub ramp: Ramp,

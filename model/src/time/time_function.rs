@@ -1,8 +1,9 @@
 //! Time grid and prescribed time functions: the smooth (1 − cos) ramp recommended by METHOD §10
 //! (C¹ data converge fast) and the linear ramp kept to show why it is not the default; the
 //! standard shock pulses (half-sine, haversine, terminal-peak sawtooth, trapezoid) of shock test
-//! specifications; and tables of (time, value) points, linearly interpolated and held after the
-//! last point.
+//! specifications; tables of (time, value) points, linearly interpolated and held after the
+//! last point; and velocities integrated from a prescribed acceleration by the time scheme's own
+//! rule (METHOD §2), for base excitation.
 
 use std::sync::Arc;
 
@@ -86,6 +87,94 @@ pub enum Shape {
     /// Points (t, value) with increasing t, interpolated linearly from (0, 0) (or from the first
     /// point when it is at t = 0), the last value held.
     Table(Arc<[[f64; 2]]>),
+    /// A velocity that integrates a prescribed acceleration of this shape on the time grid
+    /// ([`Integrated`]).
+    Integrated(Arc<Integrated>),
+}
+
+/// A velocity from rest integrated from a prescribed acceleration A(t) (unit amplitude) by the
+/// time scheme's own rule, V_m = V_{m−1} + Δt [(1 − γ) A(t_{m−1}) + γ A(t_m)], V_0 = 0 (METHOD §2:
+/// Δt/2 (A_{m−1} + A_m) for the trapezoidal rule), so that a dof driven by V has the
+/// acceleration A(t_m) at every step of the march (from rest, A(0) = 0); linear between steps,
+/// the last value held. [`TimeFunction::integrate`] fills it for a grid and a scheme.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Integrated {
+    /// The acceleration's shape.
+    pub acceleration: Shape,
+    /// (Δt, γ) of the integration; None until integrated (the velocity is then 0).
+    pub rule: Option<(f64, f64)>,
+    /// V_m at t_m, m = 0..=N.
+    pub velocity: Arc<[f64]>,
+}
+
+impl Integrated {
+    /// The acceleration `acceleration`, not yet integrated.
+    pub fn new(acceleration: Shape) -> Self {
+        Self {
+            acceleration,
+            rule: None,
+            velocity: Arc::new([]),
+        }
+    }
+
+    /// Integrated on `steps` steps of Δt with the scheme's γ.
+    fn integrated(&self, dt: f64, gamma: f64, steps: usize) -> Self {
+        let mut velocity = Vec::with_capacity(steps + 1);
+        let (mut v, mut a_prev) = (0.0, self.acceleration.unit_value(0.0));
+        velocity.push(v);
+        for m in 1..=steps {
+            let a = self.acceleration.unit_value(dt * m as f64);
+            v += dt * ((1.0 - gamma) * a_prev + gamma * a);
+            velocity.push(v);
+            a_prev = a;
+        }
+        Self {
+            acceleration: self.acceleration.clone(),
+            rule: Some((dt, gamma)),
+            velocity: velocity.into(),
+        }
+    }
+
+    /// V(t): V_m at the steps, linear between them, held after the last.
+    fn value(&self, t: f64) -> f64 {
+        let Some((dt, _)) = self.rule else {
+            return 0.0;
+        };
+        let Some(&last) = self.velocity.last() else {
+            return 0.0;
+        };
+        if t <= 0.0 {
+            return 0.0;
+        }
+        let x = t / dt;
+        let m = x.floor();
+        let i = m as usize;
+        if i + 1 >= self.velocity.len() {
+            return last;
+        }
+        let s = x - m;
+        if s == 0.0 {
+            self.velocity[i]
+        } else {
+            self.velocity[i] + s * (self.velocity[i + 1] - self.velocity[i])
+        }
+    }
+}
+
+impl Shape {
+    /// The shape's value at time t for a unit amplitude.
+    pub fn unit_value(&self, t: f64) -> f64 {
+        match self {
+            Shape::Ramp { profile, time } => ramp_value(1.0, *profile, *time, t),
+            Shape::Pulse {
+                kind,
+                duration,
+                rise,
+            } => pulse_value(*kind, *duration, *rise, t),
+            Shape::Table(points) => table_value(points, t),
+            Shape::Integrated(i) => i.value(t),
+        }
+    }
 }
 
 /// A scalar function of time: amplitude × shape.
@@ -121,6 +210,34 @@ impl TimeFunction {
                 rise,
             } => self.amplitude * pulse_value(*kind, *duration, *rise, t),
             Shape::Table(points) => self.amplitude * table_value(points, t),
+            Shape::Integrated(i) => self.amplitude * i.value(t),
+        }
+    }
+
+    /// A velocity from rest whose acceleration is `amplitude` × `acceleration` (m/s²), to be
+    /// integrated on the time grid ([`Self::integrate`]).
+    pub fn from_acceleration(amplitude: f64, acceleration: Shape) -> Self {
+        Self {
+            amplitude,
+            shape: Shape::Integrated(Arc::new(Integrated::new(acceleration))),
+        }
+    }
+
+    /// The prescribed acceleration's shape, for a velocity integrated from one.
+    pub fn acceleration(&self) -> Option<&Shape> {
+        match &self.shape {
+            Shape::Integrated(i) => Some(&i.acceleration),
+            _ => None,
+        }
+    }
+
+    /// Integrates a velocity from its acceleration ([`Integrated`]) for `steps` steps of Δt
+    /// and the scheme's γ, unless it already is; other shapes are left alone.
+    pub fn integrate(&mut self, dt: f64, gamma: f64, steps: usize) {
+        if let Shape::Integrated(i) = &self.shape {
+            if i.rule != Some((dt, gamma)) || i.velocity.len() != steps + 1 {
+                self.shape = Shape::Integrated(Arc::new(i.integrated(dt, gamma, steps)));
+            }
         }
     }
 
@@ -137,6 +254,13 @@ impl TimeFunction {
                 format!("{} pulse of {duration:e} s", kind.name())
             }
             Shape::Table(points) => format!("table of {} points", points.len()),
+            Shape::Integrated(i) => {
+                let of = TimeFunction {
+                    amplitude: 1.0,
+                    shape: i.acceleration.clone(),
+                };
+                format!("velocity from an acceleration ({})", of.describe())
+            }
         }
     }
 }

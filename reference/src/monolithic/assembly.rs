@@ -1,7 +1,7 @@
-//! The assembled structure: global lumped mass and stiffness (element matrices of every
-//! substructure summed on the merged nodes), the strongly imposed velocities, the prescribed
-//! tractions as nodal loads A·F_d (METHOD §1, §5 boundary laws), and the contact node pairs with
-//! their local frames (METHOD §5: normal n outward of side 1, tangent plane).
+//! The assembled structure: global lumped mass, stiffness and Rayleigh damping (element matrices
+//! of every substructure summed on the merged nodes, C with each substructure's α and β), the
+//! strongly imposed velocities, the prescribed tractions as nodal loads A·F_d (METHOD §1, §5
+//! boundary laws), and the contact node pairs with their local frames (METHOD §5: normal n outward of side 1, tangent plane).
 
 use faer::sparse::Triplet;
 use lopin_model::time::time_scheme::StepCoefficients;
@@ -60,6 +60,8 @@ pub struct Assembled {
     pub mass: Vec<f64>,
     /// Global stiffness.
     pub stiffness: SymmetricMatrix,
+    /// Global Rayleigh damping C = Σ_E (α_E M_E + β_E K_E) (None: undamped).
+    pub damping: Option<SymmetricMatrix>,
     /// Initial velocity v₀.
     pub v0: Vec<f64>,
     /// Prescribed velocity per global dof (None: free).
@@ -81,20 +83,33 @@ impl Assembled {
         let n = numbering.dofs();
         let mut mass = vec![0.0; n];
         let mut triplets = Vec::new();
+        // C = Σ_E (α_E M_E + β_E K_E), each substructure's own coefficients
+        let mut damping_triplets = Vec::new();
         for (s, sub) in problem.subs.iter().enumerate() {
-            for (d, &m) in sub.mass.iter().enumerate() {
-                mass[numbering.dof(s, d)] += m;
+            let d = sub.material.damping;
+            for (dof, &m) in sub.mass.iter().enumerate() {
+                let g = numbering.dof(s, dof);
+                mass[g] += m;
+                if d.alpha != 0.0 {
+                    damping_triplets.push(Triplet::new(g, g, d.alpha * m));
+                }
             }
             let k = sub.stiffness.as_faer();
             let (cp, ri, val) = (k.symbolic().col_ptr(), k.symbolic().row_idx(), k.val());
             for j in 0..sub.ndof() {
                 let gj = numbering.dof(s, j);
                 for p in cp[j]..cp[j + 1] {
-                    triplets.push(Triplet::new(numbering.dof(s, ri[p]), gj, val[p]));
+                    let gi = numbering.dof(s, ri[p]);
+                    triplets.push(Triplet::new(gi, gj, val[p]));
+                    if d.beta != 0.0 {
+                        damping_triplets.push(Triplet::new(gi, gj, d.beta * val[p]));
+                    }
                 }
             }
         }
         let stiffness = SymmetricMatrix::from_triplets(n, &triplets);
+        let damping = (!damping_triplets.is_empty())
+            .then(|| SymmetricMatrix::from_triplets(n, &damping_triplets));
         let v0 = numbering.initial_velocity(problem);
 
         let mut prescribed: Vec<Option<TimeFunction>> = vec![None; n];
@@ -167,6 +182,7 @@ impl Assembled {
             numbering,
             mass,
             stiffness,
+            damping,
             v0,
             prescribed,
             tractions,
@@ -176,20 +192,23 @@ impl Assembled {
         })
     }
 
-    /// Lower-triangle triplets of S_ff = (c_M M + c_K K) restricted to the free dofs (2/Δt M +
-    /// Δt/2 K for the trapezoidal rule; the coefficients of `lopin_model::time::time_scheme`).
+    /// Lower-triangle triplets of S_ff = (c_M M + C + c_K K) restricted to the free dofs (2/Δt M +
+    /// Δt/2 K for the trapezoidal rule without damping; the coefficients of
+    /// `lopin_model::time::time_scheme`).
     pub fn free_operator(&self, time: &StepCoefficients) -> Vec<Triplet<usize, usize, f64>> {
+        let free = |(r, c, v): (usize, usize, f64), scale: f64| {
+            let (fr, fc) = (self.free_index[r], self.free_index[c]);
+            // free numbering preserves order, so row ≥ col stays lower
+            (fr != usize::MAX && fc != usize::MAX).then(|| Triplet::new(fr, fc, scale * v))
+        };
         let mut t: Vec<Triplet<usize, usize, f64>> = self
             .stiffness
             .lower_entries()
-            .filter_map(|(r, c, v)| {
-                let (fr, fc) = (self.free_index[r], self.free_index[c]);
-                (fr != usize::MAX && fc != usize::MAX).then(|| {
-                    // free numbering preserves order, so row ≥ col stays lower
-                    Triplet::new(fr, fc, time.stiffness * v)
-                })
-            })
+            .filter_map(|e| free(e, time.stiffness))
             .collect();
+        if let Some(c) = &self.damping {
+            t.extend(c.lower_entries().filter_map(|e| free(e, 1.0)));
+        }
         for (g, &m) in self.mass.iter().enumerate() {
             let f = self.free_index[g];
             if f != usize::MAX {

@@ -4,9 +4,10 @@
 //! tractions as nodal loads, and at each step the contact problem of the pairs solved on the
 //! Delassus operator (contact_solve.rs).
 //!
-//!   (c_M M + c_K K) v_m = f_ext,m + M(c_M v_{m−1} + c_A a_{m−1}) − K(u_{m−1} + d_V v_{m−1} + d_A a_{m−1}) + Gᵀ y_m
+//!   (c_M M + C + c_K K) v_m = f_ext,m + M(c_M v_{m−1} + c_A a_{m−1}) − K(u_{m−1} + d_V v_{m−1} + d_A a_{m−1}) + Gᵀ y_m
 //!   u_m = u_{m−1} + d_V v_{m−1} + d_A a_{m−1} + c_K v_m,  a_m = e_V (v_m − v_{m−1}) − e_A a_{m−1}
-//!   (trapezoidal: c_M = 2/Δt, c_K = d_V = Δt/2, c_A = e_A = 1, d_A = 0)
+//!   (trapezoidal: c_M = 2/Δt, c_K = d_V = Δt/2, c_A = e_A = 1, d_A = 0; C the Rayleigh damping,
+//!   a₀ = −M⁻¹ C v₀)
 //!   g_m = g_{m−1} + Δt/2 ([v_n]_{m−1} + [v_n]_m)   (METHOD §5 gap update, for every scheme)
 
 use super::assembly::Assembled;
@@ -62,7 +63,15 @@ pub fn march(
     let mut scratch = factor.scratch();
     let mut u = vec![0.0; n];
     let mut v = asm.v0.clone();
+    // a₀ = −M⁻¹ C v₀: no force at t₀ but the damping of the initial velocity
     let mut a = vec![0.0; n];
+    let mut cv = vec![0.0; if asm.damping.is_some() { n } else { 0 }];
+    if let Some(c) = &asm.damping {
+        c.mul_into(&v, &mut cv);
+        for g in 0..n {
+            a[g] = -cv[g] / asm.mass[g];
+        }
+    }
     let mut sol = MonoSolution {
         u: vec![u.clone()],
         v: vec![v.clone()],
@@ -123,12 +132,15 @@ pub fn march(
         }
         if any_prescribed {
             asm.stiffness.mul_into(&v_new, &mut kp);
+            if let Some(damping) = &asm.damping {
+                damping.mul_into(&v_new, &mut cv);
+            }
         }
         for g in 0..n {
             let fi = asm.free_index[g];
             if fi != usize::MAX {
                 let coupling = if any_prescribed {
-                    c.stiffness * kp[g]
+                    c.stiffness * kp[g] + cv.get(g).copied().unwrap_or(0.0)
                 } else {
                     0.0
                 };

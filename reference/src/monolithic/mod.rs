@@ -84,9 +84,10 @@ impl Monolithic {
     }
 
     /// Sets an interface parameter (METHOD §8) on the problem and the assembled structure;
-    /// nothing is refactorized. Friction changes the contact pairs in place; a gap or a velocity
-    /// or traction amplitude or a pulse duration reassembles the loads and pairs (the prescribed dofs, hence S on the free dofs,
-    /// stay the same) and rebuilds the Delassus operator, since pairs of equal gaps merge.
+    /// nothing is refactorized. Friction changes the contact pairs in place; a gap, a velocity,
+    /// traction or acceleration amplitude or a pulse duration reassembles the loads and pairs
+    /// (the prescribed dofs, hence S on the free dofs, stay the same) and rebuilds the Delassus
+    /// operator, since pairs of equal gaps merge.
     pub fn set_parameter(&mut self, parameter: Parameter, value: f64) -> Result<()> {
         parameter.apply(&mut self.problem, value)?;
         match parameter {
@@ -94,6 +95,7 @@ impl Monolithic {
             Parameter::Gap
             | Parameter::VelocityAmplitude
             | Parameter::TractionAmplitude
+            | Parameter::AccelerationAmplitude
             | Parameter::PulseDuration => {
                 let asm = Assembled::new(&self.problem)?;
                 if asm.free_index != self.asm.free_index {

@@ -27,7 +27,8 @@ impl Monolithic {
             .collect()
     }
 
-    /// Kinetic and strain energy and the cumulative work of the boundary conditions.
+    /// Kinetic and strain energy, the cumulative work of the boundary conditions and the energy
+    /// dissipated by the damping.
     pub fn energy(&self, sol: &MonoSolution) -> EnergyHistory {
         let asm = &self.asm;
         let n = asm.numbering.dofs();
@@ -44,19 +45,27 @@ impl Monolithic {
             kinetic: vec![0.0; steps + 1],
             strain: vec![0.0; steps + 1],
             input_work: vec![0.0; steps + 1],
+            damping: vec![0.0; steps + 1],
         };
         let mut prev_b = vec![0.0; n];
         let mut ku = vec![0.0; n];
+        let mut cv = vec![0.0; n];
+        let mut prev_cv = vec![0.0; n];
+        let trapezoidal = self.problem.scheme.is_trapezoidal();
+        let gamma = self.problem.scheme.parameters().1;
         for m in 0..=steps {
             let (u, v, a) = (&sol.u[m], &sol.v[m], &self.inertia_acceleration(sol, m));
             e.kinetic[m] = 0.5 * (0..n).map(|g| asm.mass[g] * v[g] * v[g]).sum::<f64>();
             asm.stiffness.mul_into(u, &mut ku);
             e.strain[m] = 0.5 * dot_slices(u, &ku);
-            // boundary force = M a + K u − contact forces, on boundary dofs
+            if let Some(c) = &asm.damping {
+                c.mul_into(v, &mut cv);
+            }
+            // boundary force = M a + C v + K u − contact forces, on boundary dofs
             let mut b: Vec<f64> = (0..n)
                 .map(|g| {
                     if boundary[g] {
-                        asm.mass[g] * a[g] + ku[g]
+                        asm.mass[g] * a[g] + cv[g] + ku[g]
                     } else {
                         0.0
                     }
@@ -75,21 +84,28 @@ impl Monolithic {
             }
             if m > 0 {
                 let (vp, up) = (&sol.v[m - 1], &sol.u[m - 1]);
-                let trapezoidal = self.problem.scheme.is_trapezoidal();
-                let gamma = self.problem.scheme.parameters().1;
+                // the scheme's work of a force history x on the dofs g
+                let work = |x: &[f64], xp: &[f64], g: usize| {
+                    if trapezoidal {
+                        0.25 * dt * (x[g] + xp[g]) * (v[g] + vp[g])
+                    } else {
+                        (gamma * x[g] + (1.0 - gamma) * xp[g]) * (u[g] - up[g])
+                    }
+                };
                 let dw: f64 = (0..n)
                     .filter(|&g| boundary[g])
-                    .map(|g| {
-                        if trapezoidal {
-                            0.25 * dt * (b[g] + prev_b[g]) * (v[g] + vp[g])
-                        } else {
-                            (gamma * b[g] + (1.0 - gamma) * prev_b[g]) * (u[g] - up[g])
-                        }
-                    })
+                    .map(|g| work(&b, &prev_b, g))
                     .sum();
                 e.input_work[m] = e.input_work[m - 1] + dw;
+                let dd: f64 = if asm.damping.is_some() {
+                    (0..n).map(|g| work(&cv, &prev_cv, g)).sum()
+                } else {
+                    0.0
+                };
+                e.damping[m] = e.damping[m - 1] + dd;
             }
             prev_b = b;
+            std::mem::swap(&mut prev_cv, &mut cv);
         }
         e
     }
@@ -143,7 +159,8 @@ impl Monolithic {
         Summary::from_histories(&self.energy(sol), &self.contact(sol))
     }
 
-    /// Total interface force on every dof of every substructure at step m: M_E ā_E + K_E u_E.
+    /// Total interface force on every dof of every substructure at step m:
+    /// M_E ā_E + C_E v_E + K_E u_E (C_E = α_E M_E + β_E K_E, the substructure's damping).
     pub fn sub_forces(&self, sol: &MonoSolution, m: usize) -> Vec<Vec<f64>> {
         let inertia = self.inertia_acceleration(sol, m);
         self.problem
@@ -152,6 +169,17 @@ impl Monolithic {
             .enumerate()
             .map(|(s, sub)| {
                 let (u, a) = (self.gather(&sol.u[m], s), self.gather(&inertia, s));
+                let d = sub.material.damping;
+                // K (u + β v) + M (ā + α v)
+                let (u, a) = if d.is_none() {
+                    (u, a)
+                } else {
+                    let v = self.gather(&sol.v[m], s);
+                    (
+                        u.iter().zip(&v).map(|(u, v)| u + d.beta * v).collect(),
+                        a.iter().zip(&v).map(|(a, v)| a + d.alpha * v).collect(),
+                    )
+                };
                 let mut f = vec![0.0; sub.ndof()];
                 sub.stiffness.mul_into(&u, &mut f);
                 for d in 0..sub.ndof() {

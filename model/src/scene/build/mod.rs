@@ -7,7 +7,6 @@
 mod bodies;
 mod joining;
 
-use crate::elements::material::Material;
 use crate::error::Result;
 use crate::interfaces::detect::assemble_traces;
 use crate::problem::{NamedMaterial, Problem};
@@ -70,6 +69,7 @@ pub(crate) fn build_expanded(spec: &SceneSpec, source: &str, rho_inf: f64) -> Re
         zones,
     };
     problem.record_load_signs();
+    problem.integrate_accelerations();
     Ok(problem)
 }
 
@@ -79,11 +79,7 @@ fn materials(spec: &SceneSpec) -> Vec<NamedMaterial> {
         .iter()
         .map(|m| NamedMaterial {
             name: m.name.clone(),
-            material: Material {
-                young: m.young,
-                poisson: m.poisson,
-                density: m.density,
-            },
+            material: m.material(),
         })
         .collect()
 }

@@ -1,6 +1,7 @@
 //! The laws a `[[boundary]]` entry prescribes on each dof of its face or surface (METHOD §5,
-//! boundary interfaces): a velocity or a traction per component with its time function (a
-//! ramp, a standard pulse or a table of points), or a clamp.
+//! boundary interfaces): a velocity, a traction or an acceleration (a velocity from rest
+//! integrated from it) per component with its time function (a ramp, a standard pulse or a table
+//! of points), or a clamp.
 
 use crate::interfaces::interface::{BoundaryDof, DofLaw};
 use crate::scene::spec::{BoundarySpec, ComponentSpec};
@@ -53,11 +54,17 @@ fn component_law(c: &ComponentSpec) -> std::result::Result<DofLaw, (&'static str
             shape: shape(c)?,
         })
     };
-    match (c.velocity, c.traction) {
-        (Some(v), None) if v.is_finite() => Ok(DofLaw::Velocity(f(v)?)),
-        (None, Some(t)) if t.is_finite() => Ok(DofLaw::Traction(f(t)?)),
-        (Some(_), Some(_)) => Err(("", "give either `velocity` or `traction`, not both".into())),
-        (None, None) => Err(("", "give `velocity` or `traction`".into())),
+    match (c.velocity, c.traction, c.acceleration) {
+        (Some(v), None, None) if v.is_finite() => Ok(DofLaw::Velocity(f(v)?)),
+        (None, Some(t), None) if t.is_finite() => Ok(DofLaw::Traction(f(t)?)),
+        (None, None, Some(a)) if a.is_finite() => Ok(DofLaw::Velocity(
+            TimeFunction::from_acceleration(a, shape(c)?),
+        )),
+        (None, None, None) => Err(("", "give `velocity`, `traction` or `acceleration`".into())),
+        (v, t, a) if [v, t, a].iter().filter(|x| x.is_some()).count() > 1 => Err((
+            "",
+            "give one of `velocity`, `traction` and `acceleration`, not several".into(),
+        )),
         _ => Err(("", "value must be finite".into())),
     }
 }

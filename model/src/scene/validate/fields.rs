@@ -4,7 +4,7 @@
 use std::collections::HashMap;
 
 use crate::error::{LopinError, Result};
-use crate::scene::spec::{ElementKind, SceneSpec, SolverSpec};
+use crate::scene::spec::{ElementKind, MaterialSpec, SceneSpec, SolverSpec};
 
 use super::ranges::{check_substructures, in_range, DENSITY_RANGE, YOUNG_RANGE};
 
@@ -122,6 +122,67 @@ pub(super) fn check_materials(spec: &SceneSpec, source: &str) -> Result<()> {
                     DENSITY_RANGE.0, DENSITY_RANGE.1, m.density
                 ),
             );
+        }
+        check_damping(m, &|key, reason| {
+            LopinError::scene(source, format!("material[{i}].{key}"), reason)
+        })?;
+    }
+    Ok(())
+}
+
+/// A material's Rayleigh damping: `alpha` and `beta` finite and ≥ 0, or `damping_ratio` in
+/// (0, 1) with a `damping_band` of two positive frequencies in increasing order, not both ways.
+fn check_damping(m: &MaterialSpec, err: &dyn Fn(&str, String) -> LopinError) -> Result<()> {
+    let by_ratio = m.damping_ratio.is_some() || m.damping_band.is_some();
+    if by_ratio && (m.alpha.is_some() || m.beta.is_some()) {
+        let key = if m.alpha.is_some() { "alpha" } else { "beta" };
+        return Err(err(
+            key,
+            "give the damping either as `alpha`/`beta` or as `damping_ratio` with \
+             `damping_band`, not both"
+                .into(),
+        ));
+    }
+    if let Some(z) = m.damping_ratio {
+        if !(z.is_finite() && z > 0.0 && z < 1.0) {
+            return Err(err(
+                "damping_ratio",
+                format!("must lie in (0, 1), got {z:?}"),
+            ));
+        }
+    }
+    if let Some([f1, f2]) = m.damping_band {
+        if !(f1.is_finite() && f2.is_finite() && f1 > 0.0 && f2 > f1) {
+            return Err(err(
+                "damping_band",
+                format!("must be two frequencies in Hz with 0 < f1 < f2, got [{f1:?}, {f2:?}]"),
+            ));
+        }
+    }
+    match (m.damping_ratio, m.damping_band) {
+        (Some(_), None) => {
+            return Err(err(
+                "damping_ratio",
+                "needs `damping_band = [f1, f2]`, the two frequencies (Hz) where the ratio holds"
+                    .into(),
+            ))
+        }
+        (None, Some(_)) => {
+            return Err(err(
+                "damping_band",
+                "needs `damping_ratio`, the ratio ζ at both frequencies".into(),
+            ))
+        }
+        _ => {}
+    }
+    for (key, x) in [("alpha", m.alpha), ("beta", m.beta)] {
+        if let Some(x) = x {
+            if !(x.is_finite() && x >= 0.0) {
+                return Err(err(
+                    key,
+                    format!("must be a finite number ≥ 0 (C = alpha M + beta K), got {x:?}"),
+                ));
+            }
         }
     }
     Ok(())

@@ -6,7 +6,7 @@
 use crate::elements::material::{self, Material};
 use crate::error::{LopinError, Result};
 use crate::interfaces::detect::model_diameter;
-use crate::scene::spec::SceneSpec;
+use crate::scene::spec::{MaterialSpec, SceneSpec};
 
 use super::ranges::{check_k_against, in_range, short, COURANT_RANGE, LENGTH_RANGE, MAX_ASPECT};
 
@@ -26,11 +26,7 @@ fn material_of(spec: &SceneSpec, name: &str) -> Option<Material> {
     spec.materials
         .iter()
         .find(|m| m.name == name)
-        .map(|m| Material {
-            young: m.young,
-            poisson: m.poisson,
-            density: m.density,
-        })
+        .map(MaterialSpec::material)
 }
 
 /// The materials of the bodies, by name, in body order (box bodies first).
@@ -146,12 +142,31 @@ fn check_loads(spec: &SceneSpec, source: &str) -> Result<()> {
             .find(|b| b.name == bc.body)
             .and_then(|b| material(&b.material))
             .map_or(f64::INFINITY, |m| m.young);
-        for (axis, c) in bc.components() {
+        for (k, (axis, c)) in bc.components().into_iter().enumerate() {
             let Some(c) = c else { continue };
             if let Some(v) = c.velocity {
                 material::check_small_strain_speed(v, slowest).map_err(|r| {
                     LopinError::scene(source, format!("boundary[{i}].{axis}.velocity"), r)
                 })?;
+            }
+            if c.acceleration.is_some() {
+                let start = spec
+                    .bodies
+                    .iter()
+                    .map(|b| (&b.name, b.velocity))
+                    .chain(spec.mesh_bodies.iter().map(|b| (&b.name, b.velocity)))
+                    .find(|(name, _)| **name == bc.body)
+                    .map_or(0.0, |(_, v)| v[k]);
+                if start != 0.0 {
+                    return err(
+                        format!("boundary[{i}].{axis}.acceleration"),
+                        format!(
+                            "a prescribed acceleration starts from rest, but body `{}` starts \
+                             at {start:?} m/s along {axis}",
+                            bc.body
+                        ),
+                    );
+                }
             }
             if let Some(t) = c.traction.filter(|t| t.abs() > young) {
                 return err(
