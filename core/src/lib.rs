@@ -121,7 +121,7 @@ pub mod study;
 
 pub use lopin_model::{
     counters, elements, error, histories, interfaces, linalg, mesh, parameter, problem, scene,
-    settings, splitmix, substructure, target, time, window_choice,
+    settings, shock_spectrum, splitmix, substructure, target, time, window_choice,
 };
 
 pub use error::{LopinError, Result};

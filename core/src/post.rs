@@ -63,6 +63,31 @@ pub fn velocity_history(solver: &Solver, sol: &Solution) -> Vec<Vec<Vec<f64>>> {
     out
 }
 
+/// The velocity of node `node` of substructure `sub` at every step m = 0..=N.
+pub fn node_velocity(solver: &Solver, sol: &Solution, sub: usize, node: usize) -> Vec<[f64; 3]> {
+    let p = solver.problem();
+    let mut out = Vec::with_capacity(p.time.steps + 1);
+    replay(solver, sol, sub, p.time.steps, &mut |_, st, _, _| {
+        out.push(std::array::from_fn(|c| st.v[3 * node + c]));
+    });
+    out
+}
+
+/// The node nearest to `point` over every substructure: (substructure, node, distance).
+pub fn nearest_node(problem: &crate::Problem, point: Vec3) -> Option<(usize, usize, f64)> {
+    problem
+        .subs
+        .iter()
+        .enumerate()
+        .flat_map(|(s, sub)| {
+            sub.mesh.nodes.iter().enumerate().map(move |(n, x)| {
+                let d: Vec3 = std::array::from_fn(|c| x[c] - point[c]);
+                (s, n, dot(d, d).sqrt())
+            })
+        })
+        .min_by(|a, b| a.2.total_cmp(&b.2))
+}
+
 /// Displacement and velocity of one substructure at one step.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SubFields {

@@ -1,11 +1,13 @@
 //! Volume fields of one time step, computed only for the step on screen (METHOD §6 "at
 //! convergence": one more linear stage driven by ŝ, replayed up to that step): nodal
 //! displacement and velocity, and von Mises stress averaged from element centres to nodes.
-//! Also the history of one node for the probe.
+//! Also the history of one node for the probe, with the shock response spectrum of its
+//! acceleration (`lopin_core::shock_spectrum`).
 
 use lopin_core::elements::hex8;
 use lopin_core::mesh::{Element, Mesh};
 use lopin_core::post;
+use lopin_core::shock_spectrum;
 use lopin_core::{Solution, Solver};
 
 /// Fields of one substructure at one step.
@@ -79,8 +81,62 @@ pub fn element_to_nodes(mesh: &Mesh, values: &[f64]) -> Vec<f64> {
         .collect()
 }
 
-/// |v| and node-averaged von Mises stress of node `node` of substructure `sub`, at every step.
-pub fn probe(solver: &Solver, sol: &Solution, sub: usize, node: usize) -> (Vec<f64>, Vec<f64>) {
+/// Quality factor of the probe's shock response spectrum.
+pub const PROBE_Q: f64 = 10.0;
+
+/// The probe's histories: |v|, node-averaged von Mises stress and |a| (step-averaged), and the
+/// shock response spectrum of its acceleration at Q = [`PROBE_Q`] over 1/T to 1/(10Δt), 12
+/// frequencies per octave.
+pub struct ProbeSeries {
+    /// |v| per step.
+    pub speed: Vec<f64>,
+    /// Von Mises stress per step.
+    pub von_mises: Vec<f64>,
+    /// |a| per step m ≥ 1.
+    pub acceleration: Vec<f64>,
+    /// (frequency, maximax per component).
+    pub spectrum: Vec<(f64, [f64; 3])>,
+}
+
+/// The histories and spectrum of node `node` of substructure `sub`.
+pub fn probe(solver: &Solver, sol: &Solution, sub: usize, node: usize) -> ProbeSeries {
+    let p = solver.problem();
+    let (speed, von_mises, velocity) = probe_steps(solver, sol, sub, node);
+    let dt = p.time.dt;
+    let steps = shock_spectrum::step_accelerations(&velocity, dt);
+    let acceleration = steps
+        .iter()
+        .map(|a| (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt())
+        .collect();
+    let freqs = shock_spectrum::frequencies(1.0 / p.time.end(), 0.1 / dt, 12);
+    let zeta = shock_spectrum::ratio_of_quality(PROBE_Q);
+    let per_component: Vec<Vec<f64>> = (0..3)
+        .map(|c| {
+            let h: Vec<f64> = steps.iter().map(|a| a[c]).collect();
+            shock_spectrum::spectrum(&h, dt, &freqs, zeta)
+        })
+        .collect();
+    let spectrum = freqs
+        .iter()
+        .enumerate()
+        .map(|(i, &f)| (f, std::array::from_fn(|c| per_component[c][i])))
+        .collect();
+    ProbeSeries {
+        speed,
+        von_mises,
+        acceleration,
+        spectrum,
+    }
+}
+
+/// |v|, node-averaged von Mises stress and velocity of node `node` of substructure `sub`, at
+/// every step.
+fn probe_steps(
+    solver: &Solver,
+    sol: &Solution,
+    sub: usize,
+    node: usize,
+) -> (Vec<f64>, Vec<f64>, Vec<[f64; 3]>) {
     let p = solver.problem();
     let s = &p.subs[sub];
     let around: Vec<&Element> = s
@@ -91,9 +147,11 @@ pub fn probe(solver: &Solver, sol: &Solution, sub: usize, node: usize) -> (Vec<f
         .collect();
     let mut speed = Vec::with_capacity(p.time.steps + 1);
     let mut vm = Vec::with_capacity(p.time.steps + 1);
+    let mut velocity = Vec::with_capacity(p.time.steps + 1);
     post::replay(solver, sol, sub, p.time.steps, &mut |_, st, _, _| {
         let v = &st.v[3 * node..3 * node + 3];
         speed.push((v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt());
+        velocity.push([v[0], v[1], v[2]]);
         let mean = around
             .iter()
             .map(|e| hex8::von_mises(&post::stress_of(s, e, &st.u)))
@@ -101,5 +159,44 @@ pub fn probe(solver: &Solver, sol: &Solution, sub: usize, node: usize) -> (Vec<f
             / around.len().max(1) as f64;
         vm.push(mean);
     });
-    (speed, vm)
+    (speed, vm, velocity)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use lopin_core::scene;
+
+    /// The probe on a node of A's top face of `two-blocks`, driven down by a (1 − cos) ramp of
+    /// 10 m/s over 2.5 µs (10 steps): its |a| peaks at the ramp's largest step-averaged
+    /// acceleration (to 1e-6), and its spectrum is the one `lopin srs` computes from the same node's
+    /// velocity history (to 1e-12).
+    #[test]
+    fn the_probe_spectrum_is_the_clis_and_the_driven_face_has_the_ramps_acceleration() {
+        let spec = scene::load("two-blocks").expect("scene");
+        let problem = scene::problem_of(&spec, "two-blocks").expect("builds");
+        let mut settings = lopin_core::Settings::for_problem(&problem, &spec.solver);
+        settings.tol = 1e-9;
+        settings.window = Some(1);
+        let mut solver = Solver::new(problem, settings).expect("setup");
+        let sol = solver.solve(None).expect("solves");
+        let (sub, node, _) =
+            post::nearest_node(solver.problem(), [0.02, 0.02, 0.04]).expect("a node");
+        let h = probe(&solver, &sol, sub, node);
+        let peak = h.acceleration.iter().copied().fold(0.0, f64::max);
+        let dt = solver.problem().time.dt;
+        let v = |t: f64| 5.0 * (1.0 - (std::f64::consts::PI * t.min(2.5e-6) / 2.5e-6).cos());
+        let ramp = (1..=10)
+            .map(|m| (v(m as f64 * dt) - v((m - 1) as f64 * dt)) / dt)
+            .fold(0.0, f64::max);
+        assert!((peak / ramp - 1.0).abs() < 1e-6, "{peak} against {ramp}");
+        let steps =
+            shock_spectrum::step_accelerations(&post::node_velocity(&solver, &sol, sub, node), dt);
+        let z: Vec<f64> = steps.iter().map(|a| a[2]).collect();
+        let freqs: Vec<f64> = h.spectrum.iter().map(|s| s.0).collect();
+        let again = shock_spectrum::spectrum(&z, dt, &freqs, 0.5 / PROBE_Q);
+        for ((_, s), e) in h.spectrum.iter().zip(&again) {
+            assert!((s[2] - e).abs() <= 1e-12 * e, "{} against {e}", s[2]);
+        }
+    }
 }

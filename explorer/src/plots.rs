@@ -1,11 +1,13 @@
 //! The right panel's plots (egui_plot): the live convergence of the LATIN error indicator η
 //! against cumulative iterations on a log scale with a marker at each parameter change (the
-//! seed paper's Figure 6, drawn live), the probe's velocity and von Mises history, and the
-//! contact interfaces' total normal force and maximum slip over time.
+//! seed paper's Figure 6, drawn live), the probe's velocity, von Mises and acceleration history
+//! or the shock response spectrum of its acceleration, and the contact interfaces' total normal
+//! force and maximum slip over time.
 
 use crate::app::SceneInfo;
 use crate::clock::Clock;
 use crate::field_cache::FieldCache;
+use crate::fields;
 use crate::solve_view::SolveView;
 use egui_plot::{Legend, Line, Plot, PlotPoints, VLine};
 
@@ -67,14 +69,35 @@ fn probe(ui: &mut egui::Ui, cache: &FieldCache, clock: &Clock, info: &SceneInfo,
         ui.label("Click a point of the 3D view to plot its velocity and stress over time.");
         return;
     };
-    ui.strong(format!("Probe: substructure {sub}, node {node}"));
+    let id = egui::Id::unique("lopin-probe-spectrum");
+    let mut spectrum = ui.data(|d| d.get_temp::<bool>(id).unwrap_or(false));
+    ui.horizontal(|ui| {
+        ui.strong(format!("Probe: substructure {sub}, node {node}"));
+        ui.selectable_value(&mut spectrum, false, "history");
+        ui.selectable_value(&mut spectrum, true, format!("SRS, Q = {}", fields::PROBE_Q))
+            .on_hover_text(
+                "shock response spectrum of the probe's acceleration: the peak absolute \
+                 acceleration (maximax) of an oscillator of each natural frequency on it",
+            );
+    });
+    ui.data_mut(|d| d.insert_temp(id, spectrum));
+    if spectrum {
+        probe_spectrum(ui, cache, height);
+        return;
+    }
     let dt_us = info.dt * 1e6;
-    let (speed, vm) = match cache.probe_history() {
+    let (speed, vm, accel) = match cache.probe_history() {
         Some(h) => (
             over_time(h.speed.iter().copied(), dt_us),
             over_time(h.von_mises.iter().map(|v| v * 1e-6), dt_us),
+            // step-averaged: at the mid-steps
+            h.acceleration
+                .iter()
+                .enumerate()
+                .map(|(m, a)| [(m as f64 + 0.5) * dt_us, a * 1e-6])
+                .collect::<PlotPoints>(),
         ),
-        None => (PlotPoints::default(), PlotPoints::default()),
+        None => Default::default(),
     };
     Plot::new("probe")
         .show_background(false)
@@ -84,7 +107,48 @@ fn probe(ui: &mut egui::Ui, cache: &FieldCache, clock: &Clock, info: &SceneInfo,
         .show(ui, |plot| {
             plot.line(Line::new("|v| (m/s)", speed));
             plot.line(Line::new("von Mises (MPa)", vm));
+            plot.line(Line::new("|a| (10⁶ m/s²)", accel));
             plot.vline(VLine::new("now", clock.time() * 1e6));
+        });
+}
+
+/// The probe's shock response spectrum, log10 of the maximax (m/s²) against log10 of the
+/// natural frequency (Hz), one line per component that moves.
+fn probe_spectrum(ui: &mut egui::Ui, cache: &FieldCache, height: f32) {
+    let lines: Vec<(&str, PlotPoints)> = match cache.probe_history() {
+        Some(h) => {
+            let largest = h
+                .spectrum
+                .iter()
+                .flat_map(|(_, s)| s.iter().copied())
+                .fold(0.0f64, f64::max);
+            ["x", "y", "z"]
+                .iter()
+                .enumerate()
+                .filter(|&(c, _)| h.spectrum.iter().any(|(_, s)| s[c] > 1e-6 * largest))
+                .map(|(c, axis)| {
+                    let points = h
+                        .spectrum
+                        .iter()
+                        .filter(|(_, s)| s[c] > 0.0)
+                        .map(|(f, s)| [f.log10(), s[c].log10()])
+                        .collect();
+                    (*axis, points)
+                })
+                .collect()
+        }
+        None => Vec::new(),
+    };
+    Plot::new("probe-spectrum")
+        .show_background(false)
+        .height(height)
+        .legend(Legend::default())
+        .x_axis_label("log10 f (Hz)")
+        .y_axis_label("log10 peak a (m/s²)")
+        .show(ui, |plot| {
+            for (axis, points) in lines {
+                plot.line(Line::new(axis, points));
+            }
         });
 }
 

@@ -130,6 +130,11 @@ pub struct ProbeHistory {
     pub speed: Vec<f64>,
     /// Node-averaged von Mises stress per step, Pa.
     pub von_mises: Vec<f64>,
+    /// |a| of the step-averaged acceleration (v_m − v_{m−1})/Δt per step m ≥ 1, m/s².
+    pub acceleration: Vec<f64>,
+    /// Its shock response spectrum per component: (natural frequency in Hz, maximax of x, y, z
+    /// in m/s²) at Q = 10 ([`crate::fields::PROBE_Q`]).
+    pub spectrum: Vec<(f64, [f64; 3])>,
 }
 
 /// What the solver side tells the UI.

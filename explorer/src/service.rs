@@ -642,8 +642,10 @@ impl Service {
             generation: c.generation,
             sub,
             node,
-            speed: h.0,
-            von_mises: h.1,
+            speed: h.speed,
+            von_mises: h.von_mises,
+            acceleration: h.acceleration,
+            spectrum: h.spectrum,
         })));
     }
 }

@@ -26,6 +26,7 @@ pub mod parameter;
 pub mod problem;
 pub mod scene;
 pub mod settings;
+pub mod shock_spectrum;
 pub mod splitmix;
 pub mod substructure;
 pub mod target;

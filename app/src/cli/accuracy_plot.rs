@@ -269,12 +269,12 @@ pub fn plot_fields(path: &Path, title: &str, points: &[Point]) -> anyhow::Result
 }
 
 /// A chart with logarithmic axes drawn into a bitmap.
-type LogLogChart<'r, 'p> =
+pub(super) type LogLogChart<'r, 'p> =
     ChartContext<'r, BitMapBackend<'p>, Cartesian2d<LogCoord<f64>, LogCoord<f64>>>;
 
 /// A log–log chart of both figures on `root`: caption, margins, the mesh with axis descriptions
 /// (x, y), x labels by `x_label` and y labels as powers of ten.
-fn log_log_chart<'r, 'p>(
+pub(super) fn log_log_chart<'r, 'p>(
     root: &'r DrawingArea<BitMapBackend<'p>, Shift>,
     caption: String,
     x: Range<f64>,
@@ -302,7 +302,7 @@ fn log_log_chart<'r, 'p>(
 }
 
 /// The ranges (min, max) of the x and of the y values of `points`.
-fn extent(points: &[(f64, f64)]) -> ((f64, f64), (f64, f64)) {
+pub(super) fn extent(points: &[(f64, f64)]) -> ((f64, f64), (f64, f64)) {
     points.iter().fold(
         ((f64::INFINITY, 0.0f64), (f64::INFINITY, 0.0f64)),
         |((x0, x1), (y0, y1)), p| ((x0.min(p.0), x1.max(p.0)), (y0.min(p.1), y1.max(p.1))),

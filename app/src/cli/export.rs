@@ -8,14 +8,12 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use anyhow::Context;
 use clap::Args;
 use lopin_core::counters::Instant;
 
 use super::outputs::{describe, RerunArgs, FLUSH_TIMEOUT};
 use crate::export;
 use crate::run_dir::run_json::RunRecord;
-use crate::run_dir::SOLUTION_BIN;
 
 /// Options of `lopin export`.
 #[derive(Debug, Args)]
@@ -36,30 +34,7 @@ pub fn export_cmd(args: &ExportArgs) -> anyhow::Result<ExitCode> {
         "nothing to export: give --vtu DIR, --rerun FILE.rrd or --rerun-connect ADDR"
     );
     let start = Instant::now();
-    let record = RunRecord::read(&args.run)?;
-    anyhow::ensure!(
-        record.kind == "run",
-        "{}: run.json describes a {}, not a run (export works on `lopin run --out` directories)",
-        args.run.display(),
-        record.kind
-    );
-    let bin = args.run.join(SOLUTION_BIN);
-    let mut solution = record.read_solution(&args.run)?;
-    let solver = record.solver()?;
-    solution
-        .state
-        .check_fits(solver.problem())
-        .with_context(|| format!("{}: does not fit run.json's scene", bin.display()))?;
-    anyhow::ensure!(
-        solution.hats.len() == solver.problem().interfaces.len(),
-        "{}: {} interfaces stored, the scene has {}",
-        bin.display(),
-        solution.hats.len(),
-        solver.problem().interfaces.len()
-    );
-    if let Some(o) = &record.result {
-        solution.eta_history.clone_from(&o.eta_history);
-    }
+    let (record, solver, solution) = RunRecord::open_run(&args.run)?;
     let history = lopin_core::post::history(&solver, &solution);
     if let Some(dir) = &args.vtu {
         let e = export::write_vtu(dir, &solver, &history)?;

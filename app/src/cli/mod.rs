@@ -19,6 +19,7 @@ mod scaling;
 mod scenes;
 mod setup;
 mod shell;
+mod srs;
 mod stress;
 mod study;
 mod sweep;
@@ -53,6 +54,9 @@ enum Command {
     Stress(stress::StressArgs),
     /// Write VTU files or a Rerun recording from a run saved with `lopin run --out DIR`.
     Export(export::ExportArgs),
+    /// Acceleration histories at probe points and their shock response spectrum (CSV, PNG),
+    /// from a run saved with `lopin run --out DIR`.
+    Srs(srs::SrsArgs),
     /// Parametric study with warm starts (multiresolution), resumable.
     Sweep(sweep::SweepArgs),
     /// Study over several parameters (grid or samples, per zone), chains at once, resumable.
@@ -106,6 +110,7 @@ pub fn dispatch(cli: Cli) -> anyhow::Result<std::process::ExitCode> {
         Some(Command::Sweep(args)) => sweep::sweep(&args),
         Some(Command::Study(args)) => study::study(&args),
         Some(Command::Export(args)) => export::export_cmd(&args),
+        Some(Command::Srs(args)) => srs::srs(&args),
         Some(Command::Bench(args)) => bench::bench(&args),
         Some(Command::Scaling(args)) => scaling::scaling(&args),
         Some(Command::Mesh(cmd)) => mesh::mesh(&cmd),

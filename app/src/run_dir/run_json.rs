@@ -238,6 +238,37 @@ impl RunRecord {
             .with_context(|| format!("{}: not a Lopin run.json", path.display()))
     }
 
+    /// Opens a run directory made by `lopin run --out`: its record, the solver rebuilt from it
+    /// and the converged solution, checked to belong to it (fingerprint, shapes) with its η
+    /// history; a directory of another kind, a damaged or a foreign file is an error naming it.
+    pub fn open_run(dir: &Path) -> anyhow::Result<(RunRecord, Solver, Solution)> {
+        let record = RunRecord::read(dir)?;
+        anyhow::ensure!(
+            record.kind == "run",
+            "{}: run.json describes a {}, not a run (give a `lopin run --out` directory)",
+            dir.display(),
+            record.kind
+        );
+        let bin = dir.join(super::SOLUTION_BIN);
+        let mut solution = record.read_solution(dir)?;
+        let solver = record.solver()?;
+        solution
+            .state
+            .check_fits(solver.problem())
+            .with_context(|| format!("{}: does not fit run.json's scene", bin.display()))?;
+        anyhow::ensure!(
+            solution.hats.len() == solver.problem().interfaces.len(),
+            "{}: {} interfaces stored, the scene has {}",
+            bin.display(),
+            solution.hats.len(),
+            solver.problem().interfaces.len()
+        );
+        if let Some(o) = &record.result {
+            solution.eta_history.clone_from(&o.eta_history);
+        }
+        Ok((record, solver, solution))
+    }
+
     /// Rebuilds the problem and factorizes it with the recorded settings.
     pub fn solver(&self) -> anyhow::Result<Solver> {
         let label = scene::source_label(&self.scene_source);
