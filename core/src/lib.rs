@@ -68,6 +68,7 @@
 //!     x: None,
 //!     y: None,
 //!     z: None,
+//!     normal: None,
 //! };
 //! let spec = SceneSpec {
 //!     name: "cube".into(),

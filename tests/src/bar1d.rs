@@ -121,6 +121,7 @@ impl Bar1d {
                 }),
                 y: None,
                 z: None,
+                normal: None,
             })
             .into_iter()
             .collect();

@@ -16,7 +16,7 @@ use lopin_core::elements::material::Material;
 use lopin_core::interfaces::detect::{
     assemble_traces, boundary_interface, boundary_interface_on, detect_interfaces, PairRule,
 };
-use lopin_core::interfaces::interface::{BoundaryDof, DofLaw};
+use lopin_core::interfaces::interface::{BoundaryDof, BoundaryLoad, DofLaw};
 use lopin_core::mesh::msh;
 use lopin_core::problem::{NamedMaterial, Problem};
 use lopin_core::scene;
@@ -59,12 +59,13 @@ fn problem_from_file(binary: bool) -> Problem {
         "one perfect interface on the shared face"
     );
     assert_eq!(interfaces[0].sides[0].nodes.len(), 9);
-    let clamp: Vec<BoundaryDof> = (0..3)
-        .map(|component| BoundaryDof {
-            component,
-            law: DofLaw::Velocity(TimeFunction::constant(0.0)),
-        })
-        .collect();
+    let clamp = BoundaryLoad::Components(
+        (0..3)
+            .map(|component| {
+                BoundaryDof::new(component, DofLaw::Velocity(TimeFunction::constant(0.0)))
+            })
+            .collect(),
+    );
     // the clamp on the physical surface `bottom`, found by its facets
     let bottom = m
         .surface_selector("bottom", &lower_nodes)
@@ -77,10 +78,10 @@ fn problem_from_file(binary: bool) -> Problem {
     assert_eq!(clamped.area, plane.area);
     assert_eq!(clamped.sides[0].nodes.len(), 3 * 9);
     interfaces.push(clamped);
-    let push = [BoundaryDof {
-        component: 2,
-        law: DofLaw::Velocity(TimeFunction::ramp(-1.0, Ramp::Cosine, 2e-6)),
-    }];
+    let push = BoundaryLoad::Components(vec![BoundaryDof::new(
+        2,
+        DofLaw::Velocity(TimeFunction::ramp(-1.0, Ramp::Cosine, 2e-6)),
+    )]);
     interfaces.push(
         boundary_interface(&subs, 1, 2, 1.0, 2.0 * SIZE, &push, "upper:top".into())
             .expect("the top face"),

@@ -86,6 +86,7 @@ pub fn cube(n: usize, elements: usize, steps: usize) -> SceneSpec {
                 x: None,
                 y: None,
                 z: Some(ComponentSpec::velocity(-10.0, 10.0 * dt)),
+                normal: None,
             },
             BoundarySpec {
                 body: "cube".into(),
@@ -95,6 +96,7 @@ pub fn cube(n: usize, elements: usize, steps: usize) -> SceneSpec {
                 x: None,
                 y: None,
                 z: None,
+                normal: None,
             },
         ],
         granular: None,

@@ -95,7 +95,7 @@ pub fn local_stage(
                             (f[j] + k * (wd - w[j]), wd)
                         }
                         DofLaw::Traction(g) => {
-                            let fd = g.value(t);
+                            let fd = d.scale * g.value(t);
                             (fd, w[j] + (fd - f[j]) / k)
                         }
                     };

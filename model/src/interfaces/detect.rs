@@ -7,7 +7,9 @@ use std::collections::{BTreeMap, HashMap};
 
 use crate::error::{LopinError, Result};
 use crate::interfaces::box_sweep::BoxSweep;
-use crate::interfaces::interface::{BoundaryDof, Contact, Interface, Law, Side};
+use crate::interfaces::interface::{
+    BoundaryDof, BoundaryLoad, Contact, DofLaw, Interface, Law, Side,
+};
 use crate::mesh::{dot, norm, sub, Face, Vec3};
 use crate::substructure::{SideRef, Substructure};
 
@@ -296,48 +298,74 @@ pub fn boundary_interface(
     axis: usize,
     sign: f64,
     value: f64,
-    dofs: &[BoundaryDof],
+    load: &BoundaryLoad,
     name: String,
 ) -> Option<Interface> {
     let on_plane = |face: &Face| {
         let tol = REL_TOL * face.area.sqrt();
         face.normal[axis] * sign >= FACING && (face.centroid[axis] - value).abs() <= tol
     };
-    boundary_interface_on(subs, s, &on_plane, dofs, name)
+    boundary_interface_on(subs, s, &on_plane, load, name)
 }
 
 /// Builds a boundary interface of substructure `s` on the boundary faces `selected` accepts
 /// (a plane of a box, [`boundary_interface`]; the facets of a physical surface of an imported
-/// mesh), prescribing `dofs` at each of their nodes with lumped areas (face area / its node
-/// count, METHOD §1). Returns None when no face is selected.
+/// mesh), prescribing `load` at each of their nodes with lumped areas (face area / its node
+/// count, METHOD §1): the same laws on every node, or a traction along the normal spread on x,
+/// y and z by each node's area-weighted normal (components below 1e-12 of it left free).
+/// Returns None when no face is selected.
 pub fn boundary_interface_on(
     subs: &[Substructure],
     s: usize,
     selected: &dyn Fn(&Face) -> bool,
-    dofs: &[BoundaryDof],
+    load: &BoundaryLoad,
     name: String,
 ) -> Option<Interface> {
-    let mut area: BTreeMap<usize, f64> = BTreeMap::new();
+    // per node: lumped area, and Σ A_f n_f / k_f
+    let mut area: BTreeMap<usize, (f64, Vec3)> = BTreeMap::new();
     for face in subs[s].mesh.boundary_faces() {
         if !selected(&face) {
             continue;
         }
+        let share = face.area / face.nodes.len() as f64;
         for &n in &face.nodes {
-            *area.entry(n).or_default() += face.area / face.nodes.len() as f64;
+            let e = area.entry(n).or_default();
+            e.0 += share;
+            for c in 0..3 {
+                e.1[c] += share * face.normal[c];
+            }
         }
-    }
-    if area.is_empty() || dofs.is_empty() {
-        return None;
     }
     let mut nodes = Vec::new();
     let mut areas = Vec::new();
     let mut laws = Vec::new();
-    for (&n, &a) in &area {
-        for d in dofs {
-            nodes.push(n);
-            areas.push(a);
-            laws.push(d.clone());
+    for (&n, &(a, weighted)) in &area {
+        match load {
+            BoundaryLoad::Components(dofs) => {
+                for d in dofs {
+                    nodes.push(n);
+                    areas.push(a);
+                    laws.push(d.clone());
+                }
+            }
+            BoundaryLoad::Normal(f) => {
+                let length = norm(weighted);
+                for (c, &w) in weighted.iter().enumerate() {
+                    if w.abs() > 1e-12 * length {
+                        nodes.push(n);
+                        areas.push(a);
+                        laws.push(BoundaryDof {
+                            component: c,
+                            law: DofLaw::Traction(f.clone()),
+                            scale: w / a,
+                        });
+                    }
+                }
+            }
         }
+    }
+    if nodes.is_empty() {
+        return None;
     }
     Some(Interface {
         name,

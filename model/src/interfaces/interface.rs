@@ -33,6 +33,33 @@ pub struct BoundaryDof {
     pub component: usize,
     /// The prescription.
     pub law: DofLaw,
+    /// Factor on the law's value on this dof: 1, or for a traction along the faces' normal
+    /// (a pressure) the component of the node's area-weighted normal,
+    /// n_c = (Σ_f A_f n_f,c / k_f) / A_node over the node's faces f of k_f nodes, so the nodal
+    /// forces add up to the traction times Σ_f A_f n_f.
+    pub scale: f64,
+}
+
+impl BoundaryDof {
+    /// A dof prescribed along `component` by `law` (scale 1).
+    pub fn new(component: usize, law: DofLaw) -> Self {
+        Self {
+            component,
+            law,
+            scale: 1.0,
+        }
+    }
+}
+
+/// What a boundary prescribes on every node of its faces, before the faces are known: laws per
+/// component, or a traction along the faces' outward normal (a pressure p is −p), spread on
+/// each node's x, y and z by its area-weighted normal ([`BoundaryDof::scale`]).
+#[derive(Debug, Clone, PartialEq)]
+pub enum BoundaryLoad {
+    /// The same laws on every node.
+    Components(Vec<BoundaryDof>),
+    /// A traction along the outward normal.
+    Normal(TimeFunction),
 }
 
 impl BoundaryDof {

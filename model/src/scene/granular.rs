@@ -444,6 +444,7 @@ pub fn expand(spec: &SceneSpec, source: &str) -> Result<SceneSpec> {
         x: None,
         y: None,
         z: Some(ComponentSpec::velocity(-g.velocity, ramp_time)),
+        normal: None,
     });
     let bottom = layer(0).map(|c| BoundarySpec {
         body: names[c].clone(),
@@ -453,6 +454,7 @@ pub fn expand(spec: &SceneSpec, source: &str) -> Result<SceneSpec> {
         x: None,
         y: None,
         z: None,
+        normal: None,
     });
     let boundaries = top.chain(bottom).collect();
     Ok(SceneSpec {

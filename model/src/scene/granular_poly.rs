@@ -297,6 +297,7 @@ pub fn expand_placed(spec: &SceneSpec, source: &str, grains: &[Polyhedron]) -> R
             x: None,
             y: None,
             z: Some(ComponentSpec::velocity(-g.velocity, ramp_time)),
+            normal: None,
         },
         BoundarySpec {
             body: "matrix".into(),
@@ -306,6 +307,7 @@ pub fn expand_placed(spec: &SceneSpec, source: &str, grains: &[Polyhedron]) -> R
             x: None,
             y: None,
             z: None,
+            normal: None,
         },
     ];
     Ok(SceneSpec {

@@ -8,7 +8,7 @@
 
 use crate::error::{LopinError, Result};
 use crate::interfaces::detect::boundary_interface_on;
-use crate::interfaces::interface::{BoundaryDof, Interface};
+use crate::interfaces::interface::{BoundaryLoad, Interface};
 use crate::mesh::Mesh;
 use crate::scene::spec::SceneSpec;
 use crate::substructure::Substructure;
@@ -106,7 +106,7 @@ impl MeshBodies {
         subs_of: &[usize],
         file_nodes: &[Vec<usize>],
         surface: &str,
-        dofs: &[BoundaryDof],
+        load: &BoundaryLoad,
     ) -> std::result::Result<Vec<Interface>, String> {
         let name = &spec.mesh_bodies[i].name;
         #[cfg(feature = "msh")]
@@ -117,7 +117,7 @@ impl MeshBodies {
             for (&sub, file_node) in subs_of.iter().zip(file_nodes) {
                 let selector = |face: &crate::mesh::Face| facets.holds(face, file_node);
                 let label = format!("{}:{surface}", subs[sub].name);
-                found.extend(boundary_interface_on(subs, sub, &selector, dofs, label));
+                found.extend(boundary_interface_on(subs, sub, &selector, load, label));
             }
             if found.is_empty() {
                 return Err(format!(

@@ -434,6 +434,13 @@ const RULES: &[Rule] = &[
         inside: None,
     },
     Rule {
+        key: "boundary.x.pressure",
+        unit: "Pa",
+        range: "`normal` only (along the outward normal, pushing in); small against E",
+        outside: out(Boxes, "boundary[0].z.pressure", "1e6"),
+        inside: None,
+    },
+    Rule {
         key: "boundary.x.ramp",
         unit: "",
         range: "`cosine`, `linear` or `step`",
@@ -724,14 +731,15 @@ fn walk(table: &Value, defs: &Value, prefix: &str, header: &str, keys: &mut Vec<
         let key = format!("{prefix}{name}");
         let (target, array) = resolve(prop, defs);
         if target.get("properties").is_some() {
-            // a table: one level below, the three components of a boundary under one header
-            if name == "y" || name == "z" {
+            // a table: one level below, the three components of a boundary and its normal
+            // load under one header
+            if name == "y" || name == "z" || name == "normal" {
                 continue;
             }
             let sub = if array {
                 format!("[[{key}]]")
             } else if name == "x" && prefix.starts_with("boundary") {
-                format!("[{key}], [{prefix}y], [{prefix}z]")
+                format!("[{key}], [{prefix}y], [{prefix}z], [{prefix}normal]")
             } else {
                 format!("[{key}]")
             };
@@ -1199,7 +1207,7 @@ const TABLE_INTROS: &[(&str, &str)] = &[
         "A condition on a face of a box body or a physical surface of a mesh body.",
     ),
     (
-        "[boundary.x], [boundary.y], [boundary.z]",
+        "[boundary.x], [boundary.y], [boundary.z], [boundary.normal]",
         "The prescription on one component: a velocity or a traction, reached through a ramp.",
     ),
     (

@@ -351,6 +351,12 @@ pub struct BoundarySpec {
     /// Prescription on the z component.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub z: Option<ComponentSpec>,
+    /// A load along the faces' local outward normal instead of x, y and z: `pressure` (Pa,
+    /// pushing into the body) or `traction` (Pa, pulling outward), with its time function; on a
+    /// curved surface every node takes its area-weighted normal.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(not(feature = "shock"), serde(skip))]
+    pub normal: Option<ComponentSpec>,
 }
 
 impl BoundarySpec {
@@ -377,6 +383,10 @@ pub struct ComponentSpec {
     /// Traction amplitude (Pa, force per area on the body).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub traction: Option<f64>,
+    /// Pressure (Pa) of a `normal` load: the traction −pressure along the outward normal.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(not(feature = "shock"), serde(skip))]
+    pub pressure: Option<f64>,
     /// Acceleration amplitude (m/s²), for base excitation: the dofs move from rest with this
     /// acceleration times the time function, its velocity integrated by the time scheme's
     /// own rule (the body's initial velocity along the component must be 0).

@@ -66,7 +66,7 @@ pub struct Assembled {
     pub v0: Vec<f64>,
     /// Prescribed velocity per global dof (None: free).
     pub prescribed: Vec<Option<TimeFunction>>,
-    /// Prescribed tractions: (global dof, area, F_d(t)).
+    /// Prescribed tractions: (global dof, area times the dof's scale, F_d(t)).
     pub tractions: Vec<(usize, f64, TimeFunction)>,
     /// Contact pairs.
     pub pairs: Vec<ContactPair>,
@@ -133,7 +133,9 @@ impl Assembled {
                                 }
                                 _ => prescribed[g] = Some(f.clone()),
                             },
-                            DofLaw::Traction(f) => tractions.push((g, iface.area[j], f.clone())),
+                            DofLaw::Traction(f) => {
+                                tractions.push((g, d.scale * iface.area[j], f.clone()))
+                            }
                         }
                     }
                 }

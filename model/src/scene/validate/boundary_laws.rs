@@ -1,49 +1,99 @@
 //! The laws a `[[boundary]]` entry prescribes on each dof of its face or surface (METHOD §5,
 //! boundary interfaces): a velocity, a traction or an acceleration (a velocity from rest
 //! integrated from it) per component with its time function (a ramp, a standard pulse or a table
-//! of points), or a clamp.
+//! of points), a load along the faces' normal (a pressure), or a clamp.
 
-use crate::interfaces::interface::{BoundaryDof, DofLaw};
+use crate::interfaces::interface::{BoundaryDof, BoundaryLoad, DofLaw};
 use crate::scene::spec::{BoundarySpec, ComponentSpec};
 #[cfg(feature = "shock")]
 use crate::time::time_function::PulseKind;
 use crate::time::time_function::{Shape, TimeFunction};
 
-/// The prescribed dofs of a boundary, or (field, reason).
-pub fn boundary_dofs(bc: &BoundarySpec) -> std::result::Result<Vec<BoundaryDof>, (String, String)> {
+/// What a boundary prescribes: laws per component, or a load along the faces' normal; or
+/// (field, reason).
+pub fn boundary_dofs(bc: &BoundarySpec) -> std::result::Result<BoundaryLoad, (String, String)> {
     let comps = bc.components();
+    let any_component = comps.iter().any(|(_, c)| c.is_some());
+    if let Some((axis, _)) = comps
+        .iter()
+        .find(|(_, c)| c.as_ref().is_some_and(|c| c.pressure.is_some()))
+    {
+        return Err((
+            format!("{axis}.pressure"),
+            "a pressure acts along the faces' normal: give it as `normal = { pressure = … }`"
+                .into(),
+        ));
+    }
+    if let Some(n) = &bc.normal {
+        if bc.clamped || any_component {
+            return Err((
+                "normal".into(),
+                "a `normal` load cannot be combined with clamped, x, y or z".into(),
+            ));
+        }
+        return normal_load(n).map_err(|(key, r)| match key {
+            "" => ("normal".to_string(), r),
+            key => (format!("normal.{key}"), r),
+        });
+    }
     if bc.clamped {
-        if comps.iter().any(|(_, c)| c.is_some()) {
+        if any_component {
             return Err((
                 "clamped".into(),
                 "clamped = true cannot be combined with x, y or z".into(),
             ));
         }
-        return Ok((0..3)
-            .map(|component| BoundaryDof {
-                component,
-                law: DofLaw::Velocity(TimeFunction::constant(0.0)),
-            })
-            .collect());
+        return Ok(BoundaryLoad::Components(
+            (0..3)
+                .map(|component| {
+                    BoundaryDof::new(component, DofLaw::Velocity(TimeFunction::constant(0.0)))
+                })
+                .collect(),
+        ));
     }
     let mut dofs = Vec::new();
     for (component, (axis, c)) in comps.into_iter().enumerate() {
         let Some(c) = c else { continue };
-        dofs.push(BoundaryDof {
-            component,
-            law: component_law(c).map_err(|(key, r)| match key {
-                "" => (axis.to_string(), r),
-                key => (format!("{axis}.{key}"), r),
-            })?,
-        });
+        let law = component_law(c).map_err(|(key, r)| match key {
+            "" => (axis.to_string(), r),
+            key => (format!("{axis}.{key}"), r),
+        })?;
+        dofs.push(BoundaryDof::new(component, law));
     }
     if dofs.is_empty() {
         return Err((
             "x".into(),
-            "a boundary must prescribe at least one component (or clamped = true)".into(),
+            "a boundary must prescribe at least one component (or clamped = true, or a \
+             `normal` load)"
+                .into(),
         ));
     }
-    Ok(dofs)
+    Ok(BoundaryLoad::Components(dofs))
+}
+
+/// A `normal` load: a pressure p (the traction −p along the outward normal) or a traction, with
+/// its time function; errors as [`component_law`]'s.
+fn normal_load(c: &ComponentSpec) -> std::result::Result<BoundaryLoad, (&'static str, String)> {
+    if c.velocity.is_some() || c.acceleration.is_some() {
+        return Err((
+            "",
+            "a `normal` load is a `pressure` or a `traction`, not a velocity or an acceleration"
+                .into(),
+        ));
+    }
+    let traction = match (c.pressure, c.traction) {
+        (Some(p), None) if p.is_finite() => -p,
+        (None, Some(t)) if t.is_finite() => t,
+        (Some(_), Some(_)) => {
+            return Err(("", "give either `pressure` or `traction`, not both".into()))
+        }
+        (None, None) => return Err(("", "give `pressure` or `traction`".into())),
+        _ => return Err(("", "value must be finite".into())),
+    };
+    Ok(BoundaryLoad::Normal(TimeFunction {
+        amplitude: traction,
+        shape: shape(c)?,
+    }))
 }
 
 /// A component's law, or (the key at fault, empty for the component itself; the reason).

@@ -142,6 +142,19 @@ fn check_loads(spec: &SceneSpec, source: &str) -> Result<()> {
             .find(|b| b.name == bc.body)
             .and_then(|b| material(&b.material))
             .map_or(f64::INFINITY, |m| m.young);
+        if let Some(n) = &bc.normal {
+            for (key, value) in [("pressure", n.pressure), ("traction", n.traction)] {
+                if let Some(t) = value.filter(|t| t.abs() > young) {
+                    return err(
+                        format!("boundary[{i}].normal.{key}"),
+                        format!(
+                            "{t:?} Pa exceeds the Young's modulus {young:e} Pa of the body's \
+                             material: the strains would not be small"
+                        ),
+                    );
+                }
+            }
+        }
         for (k, (axis, c)) in bc.components().into_iter().enumerate() {
             let Some(c) = c else { continue };
             if let Some(v) = c.velocity {
