@@ -65,6 +65,7 @@
 //!     face: face.into(),
 //!     surface: None,
 //!     clamped: false,
+//!     preload: false,
 //!     x: None,
 //!     y: None,
 //!     z: None,
@@ -115,6 +116,7 @@ pub mod estimate;
 pub mod macro_scale;
 mod par;
 pub mod post;
+pub mod preload;
 pub mod solver;
 pub mod stages;
 pub mod state;

@@ -471,7 +471,7 @@ fn contact_where(
                     h.pressure[m][i] = p_m;
                     force += iface.area[3 * i] * p_m;
                     if m == 0 {
-                        h.gap[0][i] = c.gap[i];
+                        h.gap[0][i] = c.gap_at_start()[i];
                     } else {
                         let jn = dot(jump, nrm);
                         let jn_prev = dot(prev_jump[i], nrm);

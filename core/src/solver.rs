@@ -67,6 +67,8 @@ pub struct Solver {
     /// switching back to two scales does not rebuild it.
     spare_macro: Option<MacroProblem>,
     counters: Counters,
+    /// The preload's static phase, when the problem has one.
+    preload: Option<crate::preload::PreloadReport>,
 }
 
 impl Solver {
@@ -100,6 +102,11 @@ impl Solver {
         // the scheme of the settings: S and the macro problem are built for it
         problem.set_scheme(settings.scheme());
         search_direction::apply(&mut problem, settings.directions);
+        let preload = if problem.needs_preload() && !problem.is_prestressed() {
+            Some(crate::preload::prestress(&mut problem, &settings)?)
+        } else {
+            None
+        };
         let classes = factor_classes(&problem.subs);
         let distribution = match ranks {
             None => Distribution::single(&problem),
@@ -126,7 +133,40 @@ impl Solver {
             linear,
             spare_macro: None,
             counters,
+            preload,
         })
+    }
+
+    /// What the preload's static phase took, when the problem has one ([`crate::preload`]).
+    pub fn preload(&self) -> Option<&crate::preload::PreloadReport> {
+        self.preload.as_ref()
+    }
+
+    /// After a parameter moved: the preload's static phase again, where the problem has one and
+    /// the parameter acts on it (friction, gap, tractions); on an error the problem is `before`.
+    fn preload_again(&mut self, parameter: Parameter, before: Problem) -> Result<()> {
+        let statics_move = matches!(
+            parameter,
+            Parameter::Friction | Parameter::Gap | Parameter::TractionAmplitude
+        );
+        if !(statics_move && (self.problem.needs_preload() || before.needs_preload())) {
+            return Ok(());
+        }
+        self.problem.set_prestress(None);
+        if !self.problem.needs_preload() {
+            self.preload = None;
+            return Ok(());
+        }
+        match crate::preload::prestress(&mut self.problem, &self.settings) {
+            Ok(r) => {
+                self.preload = Some(r);
+                Ok(())
+            }
+            Err(e) => {
+                self.problem = before;
+                Err(e)
+            }
+        }
     }
 
     /// Which rank holds which substructure.
@@ -241,7 +281,7 @@ impl Solver {
     /// Sets an interface parameter (friction, gap, velocity amplitude) on the problem, checked;
     /// nothing is refactorized.
     pub fn set_parameter(&mut self, parameter: Parameter, value: f64) -> Result<()> {
-        parameter.apply(&mut self.problem, value)
+        self.set_parameter_in(parameter, None, value)
     }
 
     /// [`Self::set_parameter`] on the interfaces of one zone of the problem (an index into
@@ -252,7 +292,9 @@ impl Solver {
         zone: Option<usize>,
         value: f64,
     ) -> Result<()> {
-        parameter.apply_in(&mut self.problem, zone, value)
+        let before = self.problem.clone();
+        parameter.apply_in(&mut self.problem, zone, value)?;
+        self.preload_again(parameter, before)
     }
 
     /// Adds time spent outside `new` on setup (e.g. assembling the scene).

@@ -60,7 +60,7 @@ pub struct InterfaceState {
 
 impl InterfaceState {
     /// The cold start of METHOD §6: F = W = 0 for m ≥ 1; at m = 0 the given initial state
-    /// W₀ = B v₀, F₀ = 0.
+    /// W₀ = B v₀, F₀ = 0 (the preload's tractions, after a static phase).
     pub fn cold(problem: &Problem) -> Self {
         Self::cold_where(problem, &|_| true)
     }
@@ -79,6 +79,9 @@ impl InterfaceState {
                 let mut h = TraceHistory::zeros(s.trace_len(), steps);
                 for (j, &d) in s.trace_dofs.iter().enumerate() {
                     h.w[j] = s.initial_velocity[d % 3];
+                }
+                if let Some(p) = &s.prestress {
+                    h.f[..s.trace_len()].copy_from_slice(&p.traction);
                 }
                 h
             })

@@ -80,7 +80,8 @@ impl Parameter {
     }
 
     /// Checks a value: f non-negative and in the friction range of scenes
-    /// ([`crate::scene::validate::FRICTION_RANGE`]), gap finite and non-negative, v0 finite. The
+    /// ([`crate::scene::validate::FRICTION_RANGE`]), gap finite (negative: an interference the
+    /// preload's static phase closes), v0 finite. The
     /// error names the setting the way the solver's setters always have (`friction`, `gap`,
     /// `v0`).
     pub fn check(&self, value: f64) -> Result<()> {
@@ -91,9 +92,9 @@ impl Parameter {
             )),
             Self::Friction => crate::scene::validate::check_friction(value)
                 .map_err(|reason| LopinError::setting("friction", reason)),
-            Self::Gap if !(value.is_finite() && value >= 0.0) => Err(LopinError::setting(
+            Self::Gap if !value.is_finite() => Err(LopinError::setting(
                 "gap",
-                format!("must be non-negative, got {value:?}"),
+                format!("must be a number (negative: an interference), got {value:?}"),
             )),
             Self::VelocityAmplitude if !value.is_finite() => Err(LopinError::setting(
                 "v0",
@@ -189,7 +190,7 @@ impl Parameter {
             }
             Self::Gap => {
                 let size = problem.diameter();
-                if value > size {
+                if value.abs() > size {
                     return Err(LopinError::setting(
                         "gap",
                         format!("{value:?} m exceeds the size of the whole model ({size:.4e} m)"),

@@ -3,9 +3,9 @@
 //! METHOD §8).
 
 use crate::elements::material::Material;
-use crate::interfaces::interface::{BoundaryDof, Interface, Law};
-use crate::substructure::Substructure;
-use crate::time::time_function::TimeGrid;
+use crate::interfaces::interface::{BoundaryDof, DofLaw, Interface, Law};
+use crate::substructure::{Prestress, Substructure};
+use crate::time::time_function::{TimeFunction, TimeGrid};
 use crate::time::time_scheme::{StepCoefficients, TimeScheme};
 
 /// A material of the scene, with the name its bodies refer to it by.
@@ -15,6 +15,17 @@ pub struct NamedMaterial {
     pub name: String,
     /// Elastic constants and density.
     pub material: Material,
+}
+
+/// A static equilibrium the dynamics start from: per substructure its displacement and
+/// interface tractions ([`Prestress`]), and per interface (contact ones) the gaps it leaves,
+/// g0 + [u_n].
+#[derive(Debug, Clone, PartialEq)]
+pub struct StaticState {
+    /// One per substructure.
+    pub subs: Vec<Prestress>,
+    /// One per interface: Some for a contact interface, one gap per node.
+    pub gaps: Vec<Option<Vec<f64>>>,
 }
 
 /// A decomposed structure ready to be solved.
@@ -37,6 +48,9 @@ pub struct Problem {
     pub load_signs: Vec<Vec<f64>>,
     /// Named groups of interfaces with parameters of their own ([`crate::interfaces::zone`]).
     pub zones: Vec<crate::interfaces::zone::Zone>,
+    /// True for the static problem of a preload ([`Self::statics`]): one step of
+    /// [`StepCoefficients::STATIC`].
+    pub statics: bool,
 }
 
 impl Problem {
@@ -63,9 +77,88 @@ impl Problem {
         }
     }
 
-    /// The coefficients of one step of the scheme on the time grid.
+    /// The coefficients of one step of the scheme on the time grid (of statics, for the static
+    /// problem of a preload).
     pub fn step_coefficients(&self) -> StepCoefficients {
+        if self.statics {
+            return StepCoefficients::STATIC;
+        }
         self.scheme.coefficients(self.time.dt)
+    }
+
+    /// True when the dynamics start from a preload: a boundary traction marked `preload`, or a
+    /// contact interference (a negative gap).
+    pub fn needs_preload(&self) -> bool {
+        !self.statics
+            && self.interfaces.iter().any(|i| match &i.law {
+                Law::Boundary(dofs) => dofs.iter().any(|d| d.preload),
+                Law::Contact(c) => c.gap.iter().any(|&g| g < 0.0),
+                Law::Perfect => false,
+            })
+    }
+
+    /// True once the preload's static equilibrium is held by the substructures.
+    pub fn is_prestressed(&self) -> bool {
+        self.subs.iter().any(|s| s.prestress.is_some())
+    }
+
+    /// The static problem of the preload: one step of statics from rest, prescribed velocities
+    /// held at zero displacement, the preload tractions at their value, every other load off,
+    /// contact with its gaps g0 (an interference closes) and friction; no inertia, no damping.
+    pub fn statics(&self) -> Problem {
+        let mut p = self.clone();
+        p.statics = true;
+        p.time = TimeGrid { dt: 1.0, steps: 1 };
+        for s in &mut p.subs {
+            s.initial_velocity = [0.0; 3];
+            s.prestress = None;
+            s.material.damping = crate::elements::rayleigh::Rayleigh::NONE;
+        }
+        for iface in &mut p.interfaces {
+            match &mut iface.law {
+                Law::Boundary(dofs) => {
+                    for d in dofs {
+                        d.law = match &d.law {
+                            DofLaw::Velocity(_) => DofLaw::Velocity(TimeFunction::constant(0.0)),
+                            DofLaw::Traction(f) if d.preload => {
+                                DofLaw::Traction(TimeFunction::constant(f.amplitude))
+                            }
+                            DofLaw::Traction(_) => DofLaw::Traction(TimeFunction::constant(0.0)),
+                        };
+                    }
+                }
+                Law::Contact(c) => c.start_gap = None,
+                Law::Perfect => {}
+            }
+        }
+        p
+    }
+
+    /// Starts the dynamics from a static equilibrium ([`StaticState`]); `None` back to the
+    /// unloaded start.
+    pub fn set_prestress(&mut self, state: Option<StaticState>) {
+        match state {
+            Some(StaticState { subs, gaps }) => {
+                for (s, p) in self.subs.iter_mut().zip(subs) {
+                    s.prestress = Some(std::sync::Arc::new(p));
+                }
+                for (iface, g) in self.interfaces.iter_mut().zip(gaps) {
+                    if let Law::Contact(c) = &mut iface.law {
+                        c.start_gap = g;
+                    }
+                }
+            }
+            None => {
+                for s in &mut self.subs {
+                    s.prestress = None;
+                }
+                for iface in &mut self.interfaces {
+                    if let Law::Contact(c) = &mut iface.law {
+                        c.start_gap = None;
+                    }
+                }
+            }
+        }
     }
 
     /// Total number of dofs.

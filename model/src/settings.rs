@@ -159,6 +159,11 @@ impl Settings {
     /// times the problem's impedance scale k0 = mean √(ρE) (METHOD §10), the error naming both.
     pub fn validate_for(&self, problem: &Problem) -> Result<()> {
         self.validate()?;
+        if problem.statics {
+            // statics relates tractions to displacements: k is a stiffness per area (Pa/m),
+            // not an impedance
+            return Ok(());
+        }
         crate::scene::validate::check_k_against(self.k, problem.default_k())
             .map_err(|reason| LopinError::setting("k", reason))
     }

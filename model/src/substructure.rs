@@ -44,6 +44,18 @@ pub struct Substructure {
     pub trace_k: Vec<f64>,
     /// The interface sides whose dofs make up the trace, in trace order.
     pub sides: Vec<SideRef>,
+    /// The prestressed state the dynamics start from (None: unloaded, u₀ = 0, F₀ = 0).
+    pub prestress: Option<Arc<Prestress>>,
+}
+
+/// A substructure's static equilibrium under preload ([`crate::problem::Problem::statics`]):
+/// the dynamics start from it at rest.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Prestress {
+    /// Displacement u₀ per dof.
+    pub displacement: Vec<f64>,
+    /// Interface traction F₀ per trace dof (trace layout).
+    pub traction: Vec<f64>,
 }
 
 /// One side of an interface, as a substructure's trace holds it.
@@ -175,6 +187,7 @@ impl Substructure {
             trace_area: Vec::new(),
             trace_k: Vec::new(),
             sides: Vec::new(),
+            prestress: None,
         }
     }
 
@@ -200,6 +213,9 @@ impl Substructure {
     /// The coefficients (c_M + α, c_K + β) of M and K in the step operator S: the scheme's, plus
     /// the material's Rayleigh damping C = α M + β K ([`crate::elements::rayleigh`]).
     pub fn operator_coefficients(&self, time: &StepCoefficients) -> (f64, f64) {
+        if time.statics {
+            return (time.mass, time.stiffness);
+        }
         let d = self.material.damping;
         (time.mass + d.alpha, time.stiffness + d.beta)
     }

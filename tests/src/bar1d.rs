@@ -112,6 +112,7 @@ impl Bar1d {
                 face: "x-".into(),
                 surface: None,
                 clamped: false,
+                preload: false,
                 x: Some(ComponentSpec {
                     velocity: Some(v),
                     traction: None,

@@ -102,6 +102,7 @@ fn problem_from_file(binary: bool) -> Problem {
         scheme: TimeScheme::new(1.0),
         load_signs: Vec::new(),
         zones: Vec::new(),
+        statics: false,
     };
     p.record_load_signs();
     p

@@ -93,6 +93,7 @@ impl ReferenceRun {
             factorizations: 1,
             macro_dofs: None,
             peak_memory_bytes: super::report::peak_memory_bytes(),
+            preload: None,
             iterations: sol.sweeps,
             eta: sol.contact_change,
             // no LATIN indicator: both carry the contact iteration's last relative change

@@ -27,6 +27,9 @@ pub struct SolveReport<M> {
     pub factorizations: usize,
     pub macro_dofs: Option<usize>,
     pub peak_memory_bytes: Option<u64>,
+    /// The preload's static phase (LATIN, when the scene has a preload).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub preload: Option<Preload>,
     pub iterations: usize,
     pub eta: f64,
     /// η̄, the indicator on step-averaged fields (LATIN only).
@@ -37,6 +40,16 @@ pub struct SolveReport<M> {
     pub stages_s: Stages,
     pub energy: Energy,
     pub contact: Contact,
+}
+
+/// The "preload" object of a report: the static phase's iterations, η, search direction and
+/// seconds.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct Preload {
+    pub iterations: usize,
+    pub eta: f64,
+    pub k: f64,
+    pub wall_s: f64,
 }
 
 /// Seconds per stage of a solve.
@@ -185,6 +198,12 @@ impl<'a> RunReport<'a> {
             factorizations: self.solver.factors().len(),
             macro_dofs: self.macro_dofs(),
             peak_memory_bytes: peak_memory_bytes(),
+            preload: self.solver.preload().map(|r| Preload {
+                iterations: r.iterations,
+                eta: r.eta,
+                k: r.k,
+                wall_s: r.seconds,
+            }),
             iterations: self.solution.iterations,
             eta: self.solution.eta,
             eta_smooth: self.solution.eta_smooth,
@@ -262,6 +281,15 @@ impl<'a> RunReport<'a> {
                 p.subs.len()
             ),
         );
+        if let Some(r) = self.solver.preload() {
+            rows.row(
+                "preload (statics)",
+                format!(
+                    "{} iterations, eta {:.2e}, k {:.3e} Pa/m, {:.3} s",
+                    r.iterations, r.eta, r.k, r.seconds
+                ),
+            );
+        }
         rows.row(
             "iterations",
             format!(

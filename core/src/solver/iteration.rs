@@ -175,7 +175,7 @@ impl Solver {
             }
             None => initial,
         };
-        // ŝ starts as the initial state on every step 0 (F̂ = 0, Ŵ = B v₀)
+        // ŝ starts as the initial state on every step 0 (F̂ = 0 or the preload's, Ŵ = B v₀)
         let hats: Vec<Vec<TraceHistory>> = p
             .interfaces
             .iter()
@@ -191,6 +191,10 @@ impl Solver {
                         let sub = &p.subs[side.sub];
                         for (j, w) in h.w[..i.len].iter_mut().enumerate() {
                             *w = sub.initial_velocity[sub.trace_dofs[side.offset + j] % 3];
+                        }
+                        if let Some(pre) = &sub.prestress {
+                            h.f[..i.len]
+                                .copy_from_slice(&pre.traction[side.offset..side.offset + i.len]);
                         }
                         h
                     })

@@ -45,11 +45,20 @@ pub struct SubState {
 }
 
 impl SubState {
-    /// The initial state: u₀ = 0, v₀ given, a₀ = M⁻¹(f_ext,0 − K u₀ − C v₀) = −M⁻¹ C v₀ (no
-    /// interface force at t₀, no body load; 0 without damping).
+    /// The initial state: u₀ = 0 (or the preload's static displacement, in equilibrium with its
+    /// interface tractions F₀), v₀ given, a₀ = M⁻¹(f_ext,0 − K u₀ + Bᵀ A F₀ − C v₀) = −M⁻¹ C v₀
+    /// (no body load; 0 without damping).
     pub fn initial(sub: &Substructure, time: &StepCoefficients) -> Self {
         let n = sub.ndof();
         let v = sub.initial_velocity_field();
+        let (u, ku) = match &sub.prestress {
+            Some(p) => {
+                let mut ku = vec![0.0; n];
+                sub.stiffness.mul_into(&p.displacement, &mut ku);
+                (p.displacement.clone(), ku)
+            }
+            None => (vec![0.0; n], vec![0.0; n]),
+        };
         let mut kv = vec![0.0; n];
         sub.stiffness.mul_into(&v, &mut kv);
         let d = sub.material.damping;
@@ -69,10 +78,10 @@ impl SubState {
         }
         kv.iter_mut().for_each(|x| *x *= time.stiffness);
         Self {
-            u: vec![0.0; n],
+            u,
             v,
             a,
-            ku: vec![0.0; n],
+            ku,
             ckv: kv,
             ka,
         }

@@ -21,7 +21,8 @@ pub struct ContactRunning {
 }
 
 impl ContactRunning {
-    /// The state at t₀: ĝ₀ = g0, [Ŵ_n]₀ = n·(W₂ − W₁) from the initial velocities.
+    /// The state at t₀: ĝ₀ = g0 (after the preload, if any), [Ŵ_n]₀ = n·(W₂ − W₁) from the
+    /// initial velocities.
     pub fn initial(iface: &Interface, contact: &Contact, s: &InterfaceState) -> Self {
         let (w1, w2) = side_values(iface, s, 0);
         let normal_jump: Vec<f64> = contact
@@ -31,7 +32,7 @@ impl ContactRunning {
             .map(|(i, n)| dot(*n, sub3(node(w2.1, i), node(w1.1, i))))
             .collect();
         Self {
-            gap: contact.gap.clone(),
+            gap: contact.gap_at_start().to_vec(),
             normal_accel: vec![0.0; normal_jump.len()],
             normal_jump,
         }
@@ -127,8 +128,13 @@ pub fn local_stage(
                     let (gap, jn_prev, an_prev) =
                         (run.gap[i], run.normal_jump[i], run.normal_accel[i]);
                     let v_star = c_step.closing_velocity(gap, jn_prev, an_prev);
+                    let v_lim = if c_step.statics {
+                        v_star
+                    } else {
+                        v_star.min(0.0)
+                    };
                     let (fh1, jump, jn) =
-                        contact_node(ft, n, c.friction, v_star, normal_tangential(ks, n));
+                        contact_node(ft, n, c.friction, v_lim, normal_tangential(ks, n));
                     (run.gap[i], run.normal_accel[i]) = c_step.advance(gap, jn_prev, an_prev, jn);
                     run.normal_jump[i] = jn;
                     for q in 0..3 {
@@ -157,19 +163,20 @@ fn normal_tangential(ks: Vec3, n: Vec3) -> (f64, f64) {
     (kn, kt)
 }
 
-/// The contact closed form of METHOD §5 for one node and step, given V* (the normal velocity
-/// jump that closes the gap, [`StepCoefficients::closing_velocity`]) and the search direction's
-/// normal and tangential parts (k_n, k_t) (k_n = k_t = k for the scalar direction): returns
-/// (F̂₁, [Ŵ], [Ŵ_n]).
+/// The contact closed form of METHOD §5 for one node and step, given the least admissible
+/// normal jump V_lim and the search direction's normal and tangential parts (k_n, k_t)
+/// (k_n = k_t = k for the scalar direction): returns (F̂₁, [Ŵ], [Ŵ_n]). In dynamics V_lim =
+/// min(V*, 0), V* the normal velocity jump that closes the gap
+/// ([`StepCoefficients::closing_velocity`]; the persistent law: a penetrated node is not pushed
+/// apart); in statics V_lim = V* = −g0, so an interference is undone (Signorini's law).
 pub fn contact_node(
     ft: Vec3,
     n: Vec3,
     friction: f64,
-    v_star: f64,
+    v_lim: f64,
     (kn, kt): (f64, f64),
 ) -> (Vec3, Vec3, f64) {
     let ftn = dot(ft, n);
-    let v_lim = v_star.min(0.0);
     let p = (0.5 * kn * v_lim - ftn).max(0.0);
     let jn = 2.0 / kn * (ftn + p);
     let ftt = [ft[0] - ftn * n[0], ft[1] - ftn * n[1], ft[2] - ftn * n[2]];
@@ -219,11 +226,12 @@ mod tests {
 
     const N: Vec3 = [0.0, 0.0, 1.0];
 
-    /// V* of the trapezoidal rule with Δt = 1e-3.
+    /// V_lim = min(V*, 0) of the trapezoidal rule with Δt = 1e-3.
     fn v_star(gap: f64, jn: f64) -> f64 {
         crate::time::time_scheme::TimeScheme::TRAPEZOIDAL
             .coefficients(1e-3)
             .closing_velocity(gap, jn, 0.0)
+            .min(0.0)
     }
 
     /// With dissipation (ρ∞ = 0.5), a gap closed at V* leaves the Newmark gap update at zero:

@@ -215,7 +215,7 @@ impl Design {
         Ok(design)
     }
 
-    /// Every value checked against its parameter (finite; f and gap non-negative).
+    /// Every value checked against its parameter (finite; f non-negative).
     fn check(&self) -> Result<()> {
         for (i, p) in self.points.iter().enumerate() {
             for (t, &x) in self.targets.iter().zip(p) {
@@ -252,7 +252,7 @@ fn with_spreads(e: LopinError, axes: &[(Target, Spread)]) -> LopinError {
     LopinError::setting(
         "param",
         format!(
-            "{e} (drawn from {}; a friction coefficient or gap must stay non-negative: use \
+            "{e} (drawn from {}; a friction coefficient must stay non-negative: use \
              lognormal or uniform, or a narrower normal)",
             spreads.join(", ")
         ),

@@ -348,7 +348,10 @@ pub fn boundary_interface_on(
                     laws.push(d.clone());
                 }
             }
-            BoundaryLoad::Normal(f) => {
+            BoundaryLoad::Normal {
+                traction: f,
+                preload,
+            } => {
                 let length = norm(weighted);
                 for (c, &w) in weighted.iter().enumerate() {
                     if w.abs() > 1e-12 * length {
@@ -357,6 +360,7 @@ pub fn boundary_interface_on(
                         laws.push(BoundaryDof {
                             component: c,
                             law: DofLaw::Traction(f.clone()),
+                            preload: *preload,
                             scale: w / a,
                         });
                     }
@@ -509,6 +513,7 @@ fn two_sided(
                 .iter()
                 .map(|m| gap.unwrap_or(m.1.distance))
                 .collect(),
+            start_gap: None,
             normal: members
                 .iter()
                 .map(|m| {

@@ -33,6 +33,8 @@ pub struct BoundaryDof {
     pub component: usize,
     /// The prescription.
     pub law: DofLaw,
+    /// True for a preload: a traction applied in the static phase and held from t₀.
+    pub preload: bool,
     /// Factor on the law's value on this dof: 1, or for a traction along the faces' normal
     /// (a pressure) the component of the node's area-weighted normal,
     /// n_c = (Σ_f A_f n_f,c / k_f) / A_node over the node's faces f of k_f nodes, so the nodal
@@ -46,6 +48,7 @@ impl BoundaryDof {
         Self {
             component,
             law,
+            preload: false,
             scale: 1.0,
         }
     }
@@ -58,8 +61,13 @@ impl BoundaryDof {
 pub enum BoundaryLoad {
     /// The same laws on every node.
     Components(Vec<BoundaryDof>),
-    /// A traction along the outward normal.
-    Normal(TimeFunction),
+    /// A traction along the outward normal (a preload when `preload`).
+    Normal {
+        /// The traction (Pa; a pressure p is −p).
+        traction: TimeFunction,
+        /// Applied in the static phase and held from t₀.
+        preload: bool,
+    },
 }
 
 impl BoundaryDof {
@@ -147,10 +155,21 @@ impl BoundaryDof {
 pub struct Contact {
     /// Friction coefficient f.
     pub friction: f64,
-    /// Initial gap g0 ≥ 0 per interface node.
+    /// Initial gap g0 per interface node (negative: an interference, closed by the preload's
+    /// static phase).
     pub gap: Vec<f64>,
     /// Unit normal per node, outward of side 1 (from side 1 to side 2).
     pub normal: Vec<Vec3>,
+    /// The gap per node when the dynamics start, after the preload's static phase
+    /// (g0 + [u_n]; None without preload: g0).
+    pub start_gap: Option<Vec<f64>>,
+}
+
+impl Contact {
+    /// The gap per node at t₀ of the dynamics.
+    pub fn gap_at_start(&self) -> &[f64] {
+        self.start_gap.as_deref().unwrap_or(&self.gap)
+    }
 }
 
 /// The behaviour of an interface.

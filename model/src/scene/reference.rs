@@ -372,9 +372,9 @@ const RULES: &[Rule] = &[
     Rule {
         key: "interface.gap",
         unit: "m",
-        range: "≥ 0, at most the size of the whole model",
-        outside: out(Boxes, "interface[0].gap", "-1e-3"),
-        inside: out(Boxes, "interface[0].gap", "0.0"),
+        range: "at most the size of the whole model; negative: an interference, closed by a static preload phase",
+        outside: out(Boxes, "interface[0].gap", "1.0"),
+        inside: out(Boxes, "interface[0].gap", "-1e-6"),
     },
     Rule {
         key: "interface.search",
@@ -410,6 +410,13 @@ const RULES: &[Rule] = &[
         unit: "",
         range: "`true` or `false`; not with `x`, `y` or `z`",
         outside: out(Boxes, "boundary[0].clamped", "true"),
+        inside: None,
+    },
+    Rule {
+        key: "boundary.preload",
+        unit: "",
+        range: "`true` or `false`; tractions or a `normal` pressure only, constant",
+        outside: out(Boxes, "boundary[0].preload", "true"),
         inside: None,
     },
     Rule {

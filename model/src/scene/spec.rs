@@ -342,6 +342,12 @@ pub struct BoundarySpec {
     /// Shorthand for zero velocity on x, y and z.
     #[serde(default, skip_serializing_if = "is_false")]
     pub clamped: bool,
+    /// A preload: the tractions (or the `normal` pressure) of this boundary are applied in a
+    /// static phase before the dynamics, which start from that equilibrium with the load held
+    /// (a clamping force, a pressure on washer areas); constant, no ramp, pulse or table.
+    #[serde(default, skip_serializing_if = "is_false")]
+    #[cfg_attr(not(feature = "shock"), serde(skip))]
+    pub preload: bool,
     /// Prescription on the x component (absent: free).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub x: Option<ComponentSpec>,

@@ -60,6 +60,8 @@ pub struct StepCoefficients {
     pub a_from_a: f64,
     /// True for ρ∞ = 1: the march uses the trapezoidal formulas of METHOD §2 as written.
     pub trapezoidal: bool,
+    /// True for the static "step" of [`StepCoefficients::STATIC`] (no inertia, no damping).
+    pub statics: bool,
 }
 
 impl TimeScheme {
@@ -110,6 +112,7 @@ impl TimeScheme {
                 a_from_dv: 2.0 / dt,
                 a_from_a: 1.0,
                 trapezoidal: true,
+                statics: false,
             };
         }
         let (am, g, b) = self.parameters();
@@ -125,6 +128,7 @@ impl TimeScheme {
             a_from_dv: e_v,
             a_from_a: e_a,
             trapezoidal: false,
+            statics: false,
         }
     }
 
@@ -142,6 +146,24 @@ impl TimeScheme {
 }
 
 impl StepCoefficients {
+    /// Statics as one step of a unit pseudo-time from rest: no mass, u₁ = v₁ (the "velocity"
+    /// is the displacement), S = K + k Bᵀ A B, and the contact gap after the step is
+    /// g₀ + [u_n] (METHOD §5 with the displacement jump in place of the velocity's update):
+    /// the LATIN iteration of the scheme's step solves the static problem, floating
+    /// substructures held by the search direction alone.
+    pub const STATIC: Self = Self {
+        dt: 1.0,
+        mass: 0.0,
+        stiffness: 1.0,
+        mass_a: 0.0,
+        u_from_v: 0.0,
+        u_from_a: 0.0,
+        a_from_dv: 0.0,
+        a_from_a: 0.0,
+        trapezoidal: false,
+        statics: true,
+    };
+
     /// The normal velocity jump at step m that closes the gap exactly (g_m = 0) from the gap,
     /// normal velocity jump and normal acceleration jump of step m − 1 (METHOD §5 V*:
     /// −2 g/Δt − [W_n] for the trapezoidal rule).

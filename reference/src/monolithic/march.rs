@@ -56,12 +56,14 @@ pub fn march(
     time: TimeGrid,
     c: StepCoefficients,
     controls: ContactControls,
+    start: Option<&super::Start>,
 ) -> Result<MonoSolution> {
     let (dt, steps) = (time.dt, time.steps);
     let n = asm.numbering.dofs();
     let np = asm.pairs.len();
     let mut scratch = factor.scratch();
-    let mut u = vec![0.0; n];
+    // u₀ = 0, or the static equilibrium of a preload (at rest: its forces balance, a₀ = 0)
+    let mut u = start.map_or_else(|| vec![0.0; n], |s| s.displacement.clone());
     let mut v = asm.v0.clone();
     // a₀ = −M⁻¹ C v₀: no force at t₀ but the damping of the initial velocity
     let mut a = vec![0.0; n];
@@ -76,8 +78,11 @@ pub fn march(
         u: vec![u.clone()],
         v: vec![v.clone()],
         a: vec![a.clone()],
-        pair_forces: vec![vec![[0.0; 3]; np]],
-        gaps: vec![asm.pairs.iter().map(|p| p.gap).collect()],
+        pair_forces: vec![start.map_or_else(|| vec![[0.0; 3]; np], |s| s.pair_forces.clone())],
+        gaps: vec![start.map_or_else(
+            || asm.pairs.iter().map(|p| p.gap).collect(),
+            |s| s.gaps.clone(),
+        )],
         slips: vec![vec![[0.0; 3]; np]],
         sweeps: 0,
         max_sweeps: 0,
@@ -92,7 +97,7 @@ pub fn march(
     let mut jn: Vec<f64> = (0..np)
         .map(|p| dot(asm.pairs[p].frame[0], jump(&v, p)))
         .collect();
-    let mut gap: Vec<f64> = asm.pairs.iter().map(|p| p.gap).collect();
+    let mut gap: Vec<f64> = sol.gaps[0].clone();
     let mut slip = vec![[0.0; 3]; np];
     let tangential = |j: Vec3, nrm: Vec3| -> Vec3 {
         let jn = dot(j, nrm);
@@ -172,7 +177,9 @@ pub fn march(
                 }
                 let an = dot(asm.pairs[p].frame[0], jump(&a, p));
                 let v_star = c.closing_velocity(gap[p], jn[p], an);
-                v_lim[p] = v_star.min(0.0);
+                // statics: Signorini's law (an interference is undone); dynamics: the
+                // persistent law (a penetrated pair is not pushed apart)
+                v_lim[p] = if c.statics { v_star } else { v_star.min(0.0) };
             }
             let (sweeps, change) =
                 solve_step(delassus, &q, &v_lim, &friction, &mut y, &mut w, controls)?;

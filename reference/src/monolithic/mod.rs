@@ -38,12 +38,27 @@ pub struct Monolithic {
     /// Contact iteration controls.
     pub controls: ContactControls,
     setup_s: f64,
+    /// The static equilibrium of the problem's preload the march starts from (its own static
+    /// solve, [`Monolithic::static_start`]; None without preload).
+    start: Option<Start>,
+}
+
+/// Where the march starts after a preload: the static solution of the reference itself.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Start {
+    /// Displacement u₀ (global dofs).
+    pub displacement: Vec<f64>,
+    /// Pair forces (P, T₁, T₂) at t₀.
+    pub pair_forces: Vec<[f64; 3]>,
+    /// Gap per pair at t₀.
+    pub gaps: Vec<f64>,
 }
 
 impl Monolithic {
     /// Assembles and factorizes the problem and builds the Delassus operator of its contacts.
     pub fn new(problem: Problem) -> Result<Self> {
         let clock = Instant::now();
+        let start = Self::static_start(&problem)?;
         let asm = Assembled::new(&problem)?;
         let time = problem.step_coefficients();
         let factor =
@@ -60,7 +75,30 @@ impl Monolithic {
             delassus,
             controls: ContactControls::default(),
             setup_s: clock.elapsed().as_secs_f64(),
+            start,
         })
+    }
+
+    /// The reference's own static solve of a preload (None without one): the static problem
+    /// ([`Problem::statics`]: one step of statics, S = K on the free dofs) marched once with its
+    /// contact solve (Signorini's law on g0 + [u_n], Coulomb friction). Every part must be held
+    /// by a prescribed dof: K is factorized as it is.
+    pub fn static_start(problem: &Problem) -> Result<Option<Start>> {
+        if !problem.needs_preload() {
+            return Ok(None);
+        }
+        let statics = Monolithic::new(problem.statics()).map_err(|e| {
+            LopinError::Reference(format!(
+                "the preload's static problem: {e} (the reference needs every part held by a \
+                 prescribed dof in statics)"
+            ))
+        })?;
+        let sol = statics.solve()?;
+        Ok(Some(Start {
+            displacement: sol.u[1].clone(),
+            pair_forces: sol.pair_forces[1].clone(),
+            gaps: sol.gaps[1].clone(),
+        }))
     }
 
     /// The problem.
@@ -107,6 +145,8 @@ impl Monolithic {
                 self.asm = asm;
             }
         }
+        // the preload's equilibrium moves with friction, gaps and tractions
+        self.start = Self::static_start(&self.problem)?;
         Ok(())
     }
 
@@ -119,6 +159,7 @@ impl Monolithic {
             self.problem.time,
             self.problem.step_coefficients(),
             self.controls,
+            self.start.as_ref(),
         )
     }
 }

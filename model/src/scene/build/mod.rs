@@ -67,6 +67,7 @@ pub(crate) fn build_expanded(spec: &SceneSpec, source: &str, rho_inf: f64) -> Re
         scheme: TimeScheme::new(rho_inf),
         load_signs: Vec::new(),
         zones,
+        statics: false,
     };
     problem.record_load_signs();
     problem.integrate_accelerations();

@@ -12,6 +12,66 @@ use crate::time::time_function::{Shape, TimeFunction};
 /// What a boundary prescribes: laws per component, or a load along the faces' normal; or
 /// (field, reason).
 pub fn boundary_dofs(bc: &BoundarySpec) -> std::result::Result<BoundaryLoad, (String, String)> {
+    let load = prescribed(bc)?;
+    if bc.preload {
+        return preloaded(bc, load);
+    }
+    Ok(load)
+}
+
+/// A preload boundary's load: tractions only, constant (applied in the static phase, held
+/// from t₀).
+fn preloaded(
+    bc: &BoundarySpec,
+    load: BoundaryLoad,
+) -> std::result::Result<BoundaryLoad, (String, String)> {
+    let specs = bc
+        .components()
+        .into_iter()
+        .chain([("normal", &bc.normal)])
+        .filter_map(|(axis, c)| c.as_ref().map(|c| (axis, c)));
+    for (axis, c) in specs {
+        let shaped =
+            c.ramp_time > 0.0 || c.pulse.is_some() || c.table.is_some() || c.table_file.is_some();
+        if shaped {
+            return Err((
+                axis.to_string(),
+                "a preload is held constant: give it no ramp, pulse or table".into(),
+            ));
+        }
+    }
+    let constant = |f: &TimeFunction| TimeFunction::constant(f.amplitude);
+    match load {
+        BoundaryLoad::Normal { traction, .. } => Ok(BoundaryLoad::Normal {
+            traction: constant(&traction),
+            preload: true,
+        }),
+        BoundaryLoad::Components(dofs) => dofs
+            .into_iter()
+            .map(|d| match &d.law {
+                DofLaw::Traction(f) => Ok(BoundaryDof {
+                    law: DofLaw::Traction(constant(f)),
+                    preload: true,
+                    ..d
+                }),
+                DofLaw::Velocity(_) => Err((
+                    if bc.clamped {
+                        "clamped".to_string()
+                    } else {
+                        ["x", "y", "z"][d.component].to_string()
+                    },
+                    "a preload is a static load: give a `traction` (or `normal = { pressure = … }`), \
+                     not a velocity or an acceleration"
+                        .into(),
+                )),
+            })
+            .collect::<std::result::Result<Vec<_>, _>>()
+            .map(BoundaryLoad::Components),
+    }
+}
+
+/// The laws a boundary prescribes, before a preload makes them static.
+fn prescribed(bc: &BoundarySpec) -> std::result::Result<BoundaryLoad, (String, String)> {
     let comps = bc.components();
     let any_component = comps.iter().any(|(_, c)| c.is_some());
     if let Some((axis, _)) = comps
@@ -90,10 +150,13 @@ fn normal_load(c: &ComponentSpec) -> std::result::Result<BoundaryLoad, (&'static
         (None, None) => return Err(("", "give `pressure` or `traction`".into())),
         _ => return Err(("", "value must be finite".into())),
     };
-    Ok(BoundaryLoad::Normal(TimeFunction {
-        amplitude: traction,
-        shape: shape(c)?,
-    }))
+    Ok(BoundaryLoad::Normal {
+        traction: TimeFunction {
+            amplitude: traction,
+            shape: shape(c)?,
+        },
+        preload: false,
+    })
 }
 
 /// A component's law, or (the key at fault, empty for the component itself; the reason).

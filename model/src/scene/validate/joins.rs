@@ -56,7 +56,15 @@ pub(super) fn check_interfaces(
                         format!("only a contact interface takes `{field}`"),
                     );
                 }
-                if !(v.is_finite() && v >= 0.0) {
+                if field == "gap" && !v.is_finite() {
+                    return err(
+                        format!("interface[{i}].gap"),
+                        format!(
+                            "must be a number (negative: an interference the preload closes), got {v}"
+                        ),
+                    );
+                }
+                if field != "gap" && !(v.is_finite() && v >= 0.0) {
                     return err(
                         format!("interface[{i}].{field}"),
                         format!("must be a non-negative number, got {v}"),

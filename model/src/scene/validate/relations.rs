@@ -202,7 +202,7 @@ fn check_distances(spec: &SceneSpec, source: &str) -> Result<()> {
     let diameter = model_diameter(&boxes);
     for (i, it) in spec.interfaces.iter().enumerate() {
         for (field, value) in [("gap", it.gap), ("search", it.search)] {
-            if let Some(v) = value.filter(|v| *v > diameter) {
+            if let Some(v) = value.filter(|v| v.abs() > diameter) {
                 return err(
                     format!("interface[{i}].{field}"),
                     format!("{v:?} m exceeds the size of the whole model ({diameter:.4e} m)"),
