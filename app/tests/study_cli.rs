@@ -283,7 +283,7 @@ fn bad_study_input_is_refused_with_the_option_and_the_reason() {
         &["--param", "f=normal(0.1,0.2)", "--samples", "20"],
         &["f = -", "non-negative", "normal(0.1, 0.2)", "lognormal"],
     );
-    refused(&["--param", "gap=inf,0"], &["gap", "must be a number"]);
+    refused(&["--param", "gap=inf,0"], &["gap", "is not a number"]);
     refused(
         &["--param", "f=uniform(0,1)"],
         &["distribution", "--samples"],

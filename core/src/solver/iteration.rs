@@ -141,9 +141,26 @@ impl SolveRun {
     }
 }
 
+/// Adds to every step m ≥ 1 of a trace history `x` (its step 0 the run's initial state) the
+/// difference between that initial state and `start0`, the initial state of the history the
+/// later steps were copied from (nothing where they agree).
+fn shift_by_initial_change(x: &mut [f64], start0: &[f64]) {
+    let len = start0.len();
+    let shift: Vec<f64> = x[..len].iter().zip(start0).map(|(a, b)| a - b).collect();
+    if shift.iter().all(|&d| d == 0.0) {
+        return;
+    }
+    for step in x[len..].chunks_exact_mut(len) {
+        for (v, d) in step.iter_mut().zip(&shift) {
+            *v += d;
+        }
+    }
+}
+
 impl Solver {
     /// Starts a solve: `start` None for a cold start, or a previous state (warm, METHOD §8),
-    /// whose m = 0 entries are replaced by the given initial state.
+    /// whose m = 0 entries are replaced by the given initial state (and its later steps shifted
+    /// by the change of the initial state, a preload's).
     pub fn begin(&mut self, start: Option<&InterfaceState>) -> Result<SolveRun> {
         let p = &self.problem;
         let n = p.time.steps;
@@ -166,10 +183,14 @@ impl Solver {
                             dist.rank()
                         )));
                     }
-                    // m = 0 is the given initial state, never iterated (METHOD §1)
+                    // m = 0 is the given initial state, never iterated (METHOD §1); a start
+                    // from another initial state (another preload) is shifted by the change of
+                    // that state, the rest of its history taken as the increment on it
                     let r0 = h.at(0).end;
                     h.f[r0..].copy_from_slice(&from.f[r0..]);
                     h.w[r0..].copy_from_slice(&from.w[r0..]);
+                    shift_by_initial_change(&mut h.f, &from.f[..r0]);
+                    shift_by_initial_change(&mut h.w, &from.w[..r0]);
                 }
                 s
             }
