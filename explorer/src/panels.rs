@@ -174,7 +174,8 @@ pub fn parameters(
         }
     }
     if let Some(g) = &mut p.gap {
-        if let Some(v) = scaled_slider(ui, *g, 1e6, 0.0..=500.0, "gap g0 (µm)") {
+        // negative: an interference, closed by the preload's static phase
+        if let Some(v) = scaled_slider(ui, *g, 1e6, -50.0..=500.0, "gap g0 (µm)") {
             *g = v;
         }
     }

@@ -130,7 +130,7 @@ impl MeshBodies {
         }
         #[cfg(not(feature = "msh"))]
         {
-            let _ = (subs, subs_of, file_nodes, dofs, boundary_interface_on);
+            let _ = (subs, subs_of, file_nodes, load, boundary_interface_on);
             Err(format!(
                 "body `{name}`: this build reads no mesh files (surface `{surface}`)"
             ))
