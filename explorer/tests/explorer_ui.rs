@@ -1,6 +1,7 @@
 //! The explorer driven through its widgets with egui_kittest (rendered with wgpu on the software
 //! Vulkan driver): the friction slider launches a converged warm re-solve, the time scrubber,
-//! field choice and section change what is drawn, a click on the body picks a probe node, and
+//! field choice and section change what is drawn, a click on the body picks a probe node (its
+//! history, acceleration and shock response spectrum, the spectrum's tab drawn), and
 //! snapshot images of the main views are compared with the committed ones
 //! (`tests/snapshots/`; regenerate with `UPDATE_SNAPSHOTS=1`).
 
@@ -128,6 +129,20 @@ fn a_click_on_the_body_picks_a_probe_with_a_history() {
     assert_eq!(p.speed[0], 0.0, "at rest before the impact");
     assert!(p.speed.iter().copied().fold(0.0, f64::max) > 0.1);
     assert!(p.von_mises.iter().copied().fold(0.0, f64::max) > 0.0);
+    // the step-averaged acceleration, one per step, and its spectrum over the default band
+    assert_eq!(p.acceleration.len(), app.info.steps);
+    assert!(p.acceleration.iter().copied().fold(0.0, f64::max) > 0.0);
+    assert!(p.spectrum.len() > 10);
+    assert!(p
+        .spectrum
+        .iter()
+        .all(|(f, s)| *f > 0.0 && s.iter().all(|x| x.is_finite())));
+    // the spectrum tab draws, and the history tab comes back
+    h.get_by_label("SRS, Q = 10").click();
+    h.step();
+    h.step();
+    h.get_by_label("history").click();
+    h.step();
 }
 
 #[test]
