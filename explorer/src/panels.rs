@@ -34,10 +34,12 @@ pub fn top_bar(
                     .show_ui(ui, |ui| {
                         // scenes of a million dofs are for the command line (`lopin run`), not a
                         // live view; the web build meshes nothing with gmsh
+                        // a build that reads no shock loads cannot parse a scene with them
                         let scenes = lopin_core::scene::registry::SCENES.into_iter().filter(|n| {
                             !lopin_core::scene::registry::is_large(n)
                                 && (cfg!(feature = "meshes")
                                     || !lopin_core::scene::registry::needs_gmsh(n))
+                                && lopin_core::scene::registry::parse(n).is_some_and(|r| r.is_ok())
                         });
                         for name in scenes {
                             if ui.selectable_label(info.name == name, name).clicked() {
@@ -188,6 +190,11 @@ pub fn parameters(
     }
     if let Some(t) = &mut p.traction {
         if let Some(v) = scaled_slider(ui, *t, 1e-6, 0.0..=1000.0, "traction t0 (MPa)") {
+            *t = v;
+        }
+    }
+    if let Some(t) = &mut p.preload {
+        if let Some(v) = scaled_slider(ui, *t, 1e-6, 0.0..=1000.0, "preload (MPa)") {
             *t = v;
         }
     }

@@ -29,6 +29,8 @@ pub struct Params {
     pub traction: Option<f64>,
     /// Amplitude of the prescribed (base) accelerations, m/s² (None: nothing is prescribed).
     pub acceleration: Option<f64>,
+    /// Amplitude of the preload tractions, Pa (None: the scene has no preload traction).
+    pub preload: Option<f64>,
     /// Duration of the boundary pulses, s (None: the scene prescribes no pulse).
     pub duration: Option<f64>,
     /// The solver settings; the panel moves k, μ, the tolerance, the macro switch, ρ∞ and the
@@ -47,6 +49,7 @@ impl Params {
             velocity: Parameter::VelocityAmplitude.current(problem),
             traction: Parameter::TractionAmplitude.current(problem),
             acceleration: Parameter::AccelerationAmplitude.current(problem),
+            preload: Parameter::Preload.current(problem),
             duration: Parameter::PulseDuration.current(problem),
             settings: *settings,
         }
@@ -60,6 +63,7 @@ impl Params {
             Parameter::VelocityAmplitude => self.velocity,
             Parameter::TractionAmplitude => self.traction,
             Parameter::AccelerationAmplitude => self.acceleration,
+            Parameter::Preload => self.preload,
             Parameter::PulseDuration => self.duration,
         }
     }
@@ -198,6 +202,7 @@ mod tests {
             velocity: None,
             traction: None,
             acceleration: None,
+            preload: None,
             duration: None,
             settings: Settings::defaults(1.0),
         };

@@ -1,7 +1,7 @@
 //! The interface parameters a user moves without refactorizing anything (METHOD §5 laws, §8
 //! multiresolution): the friction coefficient and initial gap of every contact interface, the
-//! amplitude of every non-zero prescribed velocity, traction and acceleration, and the duration
-//! of every boundary pulse. One type reads a parameter's current value
+//! amplitude of every non-zero prescribed velocity, traction and acceleration, the preload (the
+//! amplitude of the tractions a static phase applies), and the duration of every boundary pulse. One type reads a parameter's current value
 //! from a problem and applies a new one, validated; the solver, sweeps, the explorer and the
 //! monolithic reference all go through it.
 
@@ -22,6 +22,9 @@ pub enum Parameter {
     TractionAmplitude,
     /// Amplitude a0 (m/s²) of every non-zero prescribed acceleration.
     AccelerationAmplitude,
+    /// Amplitude (Pa) of every preload traction (a clamping pressure: the preload's static phase
+    /// applies it and the dynamics hold it).
+    Preload,
     /// Duration T (s) of every standard pulse a boundary prescribes (a trapezoid's rise scales
     /// with it).
     PulseDuration,
@@ -29,17 +32,18 @@ pub enum Parameter {
 
 impl Parameter {
     /// Every parameter, in the order tables and panels list them.
-    pub const ALL: [Parameter; 6] = [
+    pub const ALL: [Parameter; 7] = [
         Self::Friction,
         Self::Gap,
         Self::VelocityAmplitude,
         Self::TractionAmplitude,
         Self::AccelerationAmplitude,
+        Self::Preload,
         Self::PulseDuration,
     ];
 
     /// Parses `f`/`friction`, `gap`/`g0`, `v0`/`velocity`, `t0`/`traction`,
-    /// `a0`/`acceleration`, `duration`.
+    /// `a0`/`acceleration`, `preload`, `duration`.
     pub fn parse(name: &str) -> Result<Self> {
         match name {
             "f" | "friction" => Ok(Self::Friction),
@@ -47,10 +51,13 @@ impl Parameter {
             "v0" | "velocity" => Ok(Self::VelocityAmplitude),
             "t0" | "traction" => Ok(Self::TractionAmplitude),
             "a0" | "acceleration" => Ok(Self::AccelerationAmplitude),
+            "preload" => Ok(Self::Preload),
             "duration" => Ok(Self::PulseDuration),
             _ => Err(LopinError::setting(
                 "param",
-                format!("unknown parameter `{name}` (sweepable: f, gap, v0, t0, a0, duration)"),
+                format!(
+                    "unknown parameter `{name}` (sweepable: f, gap, v0, t0, a0, preload, duration)"
+                ),
             )),
         }
     }
@@ -63,6 +70,7 @@ impl Parameter {
             Self::VelocityAmplitude => "v0",
             Self::TractionAmplitude => "t0",
             Self::AccelerationAmplitude => "a0",
+            Self::Preload => "preload",
             Self::PulseDuration => "duration",
         }
     }
@@ -75,6 +83,7 @@ impl Parameter {
             Self::VelocityAmplitude => "m/s",
             Self::TractionAmplitude => "Pa",
             Self::AccelerationAmplitude => "m/s²",
+            Self::Preload => "Pa",
             Self::PulseDuration => "s",
         }
     }
@@ -107,6 +116,12 @@ impl Parameter {
             Self::AccelerationAmplitude if !value.is_finite() => Err(LopinError::setting(
                 "a0",
                 format!("must be finite, got {value:?}"),
+            )),
+            Self::Preload if !(value.is_finite() && value >= 0.0) => Err(LopinError::setting(
+                "preload",
+                format!(
+                    "must be a non-negative amplitude (the scene's directions are kept), got {value:?}"
+                ),
             )),
             Self::PulseDuration if !(value.is_finite() && value > 0.0) => Err(LopinError::setting(
                 "duration",
@@ -163,8 +178,18 @@ impl Parameter {
                     _ => None,
                 })
                 .reduce(f64::max),
-            Self::TractionAmplitude => boundary_laws
-                .filter_map(|law| match law {
+            Self::TractionAmplitude => boundary_dofs
+                .clone()
+                .filter(|d| !d.preload)
+                .filter_map(|d| match &d.law {
+                    DofLaw::Traction(f) if f.amplitude != 0.0 => Some(f.amplitude.abs()),
+                    _ => None,
+                })
+                .reduce(f64::max),
+            Self::Preload => boundary_dofs
+                .clone()
+                .filter(|d| d.preload)
+                .filter_map(|d| match &d.law {
                     DofLaw::Traction(f) if f.amplitude != 0.0 => Some(f.amplitude.abs()),
                     _ => None,
                 })
@@ -201,7 +226,10 @@ impl Parameter {
                 crate::scene::validate::check_pulse_duration(value, problem.time.end())
                     .map_err(|reason| LopinError::setting("duration", reason))?;
             }
-            Self::Friction | Self::TractionAmplitude | Self::AccelerationAmplitude => {}
+            Self::Friction
+            | Self::TractionAmplitude
+            | Self::AccelerationAmplitude
+            | Self::Preload => {}
         }
         Ok(())
     }
@@ -230,6 +258,7 @@ impl Parameter {
             Self::VelocityAmplitude => problem.set_velocity_amplitude(value, zone),
             Self::TractionAmplitude => problem.set_traction_amplitude(value, zone),
             Self::AccelerationAmplitude => problem.set_acceleration_amplitude(value, zone),
+            Self::Preload => problem.set_preload(value, zone),
             Self::PulseDuration => problem.set_pulse_duration(value, zone),
         }
         Ok(())

@@ -224,10 +224,24 @@ impl Problem {
         self.each_boundary_dof(zone, |dof, sign| dof.set_velocity_amplitude(v, sign));
     }
 
-    /// Sets the amplitude of every non-zero prescribed traction (of `zone` only, if given) to
-    /// `t` (Pa), keeping the directions of the scene.
+    /// Sets the amplitude of every non-zero prescribed traction but the preloads (of `zone`
+    /// only, if given) to `t` (Pa), keeping the directions of the scene.
     pub(crate) fn set_traction_amplitude(&mut self, t: f64, zone: Option<usize>) {
-        self.each_boundary_dof(zone, |dof, sign| dof.set_traction_amplitude(t, sign));
+        self.each_boundary_dof(zone, |dof, sign| {
+            if !dof.preload {
+                dof.set_traction_amplitude(t, sign);
+            }
+        });
+    }
+
+    /// Sets the amplitude of every preload traction (of `zone` only, if given) to `p` (Pa),
+    /// keeping the directions of the scene.
+    pub(crate) fn set_preload(&mut self, p: f64, zone: Option<usize>) {
+        self.each_boundary_dof(zone, |dof, sign| {
+            if dof.preload {
+                dof.set_traction_amplitude(p, sign);
+            }
+        });
     }
 
     /// Sets the amplitude of every non-zero prescribed acceleration (of `zone` only, if given)

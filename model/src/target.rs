@@ -1,5 +1,5 @@
 //! A parameter of the interface laws as users name it: one interface parameter
-//! ([`crate::Parameter`]: f, gap, v0, t0, a0, duration, METHOD §5) on every interface it applies
+//! ([`crate::Parameter`]: f, gap, v0, t0, a0, preload, duration, METHOD §5) on every interface it applies
 //! to, or on one zone's ([`crate::interfaces::zone`]), written `f` or `f@ZONE` ([`Target`]); and a value given
 //! to one, `f@ZONE=0.3` ([`Assignment`]), which a run applies to its built problem. Studies move
 //! targets; runs and the explorer assign them.
@@ -62,6 +62,7 @@ impl Target {
                         Parameter::VelocityAmplitude => "no non-zero prescribed velocity",
                         Parameter::TractionAmplitude => "no non-zero prescribed traction",
                         Parameter::AccelerationAmplitude => "no non-zero prescribed acceleration",
+                        Parameter::Preload => "no preload traction",
                         Parameter::PulseDuration => "no boundary pulse",
                         Parameter::Friction | Parameter::Gap => "no contact interface",
                     }

@@ -5,8 +5,8 @@
 //! A zone selects the contact interfaces between the body pairs it lists (`bodies`; none: every
 //! pair) whose centre lies in its box (`min`, `max`; none: anywhere) and that lie on one of the
 //! physical surfaces of Gmsh meshes it names (`surfaces`; none: anywhere; the contacts are
-//! split by surface, [`crate::interfaces::surface_groups`]), and, for `v0`, the boundary interfaces with a
-//! non-zero prescribed velocity of the bodies it names (none: every body) whose centre lies in
+//! split by surface, [`crate::interfaces::surface_groups`]), and, for `v0` and `preload`, the
+//! boundary interfaces with a non-zero prescribed velocity or a preload of the bodies it names (none: every body) whose centre lies in
 //! the box and whose surface it names. A zone that selects nothing, names an unknown body or a
 //! surface no mesh file defines, or repeats a name is an error naming the field.
 
@@ -21,7 +21,7 @@ pub struct Zone {
     pub name: String,
     /// Contact interfaces (friction, gap).
     pub contacts: Vec<usize>,
-    /// Boundary interfaces with a prescribed velocity component (v0).
+    /// Boundary interfaces with a prescribed velocity component (v0) or a preload.
     pub boundaries: Vec<usize>,
 }
 
@@ -231,10 +231,9 @@ fn select(
                 zone.contacts.push(i);
             }
             Law::Boundary(dofs)
-                if dofs
-                    .iter()
-                    .any(|d| matches!(&d.law, DofLaw::Velocity(f) if f.amplitude != 0.0))
-                    && body_named(body(0))
+                if dofs.iter().any(|d| {
+                    d.preload || matches!(&d.law, DofLaw::Velocity(f) if f.amplitude != 0.0)
+                }) && body_named(body(0))
                     && inside(iface)
                     && on_surface(i) =>
             {

@@ -9,12 +9,13 @@ use crate::error::Result;
 use crate::scene::{reading, SceneSpec};
 
 /// Names of the built-in scenes, in display order.
-pub const SCENES: [&str; 9] = [
+pub const SCENES: [&str; 10] = [
     "bar",
     "bar-bimaterial",
     "two-blocks",
     "two-blocks-ramp",
     "gap-impact",
+    "bolted-lap",
     "granular-small",
     "granular-paper",
     "granular-poly",
@@ -52,6 +53,7 @@ pub fn source(name: &str) -> Option<&'static str> {
         "two-blocks" => include_str!("../../../assets/scenes/two-blocks.toml"),
         "two-blocks-ramp" => include_str!("../../../assets/scenes/two-blocks-ramp.toml"),
         "gap-impact" => include_str!("../../../assets/scenes/gap-impact.toml"),
+        "bolted-lap" => include_str!("../../../assets/scenes/bolted-lap.toml"),
         "granular-small" => include_str!("../../../assets/scenes/granular-small.toml"),
         "granular-paper" => include_str!("../../../assets/scenes/granular-paper.toml"),
         "granular-poly" => include_str!("../../../assets/scenes/granular-poly.toml"),

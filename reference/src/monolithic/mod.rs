@@ -134,6 +134,7 @@ impl Monolithic {
             | Parameter::VelocityAmplitude
             | Parameter::TractionAmplitude
             | Parameter::AccelerationAmplitude
+            | Parameter::Preload
             | Parameter::PulseDuration => {
                 let asm = Assembled::new(&self.problem)?;
                 if asm.free_index != self.asm.free_index {

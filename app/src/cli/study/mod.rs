@@ -51,7 +51,7 @@ pub struct StudyArgs {
     pub scene: SceneArgs,
     /// A parameter and its spread, once per parameter: NAME=START:STOP:STEP, NAME=V1,V2,…,
     /// NAME=uniform(A,B), NAME=normal(MEAN,SD) or NAME=lognormal(MU,SIGMA) (ln x ~ N(MU, SIGMA));
-    /// NAME is f, gap, v0, t0, a0 or duration, or NAME@ZONE for one zone of the scene.
+    /// NAME is f, gap, v0, t0, a0, preload or duration, or NAME@ZONE for one zone of the scene.
     #[arg(long, required = true)]
     pub param: Vec<String>,
     /// Draw this many samples of the spreads instead of the grid of the value lists.

@@ -30,7 +30,7 @@ use records::Store;
 pub struct SweepArgs {
     #[command(flatten)]
     pub scene: SceneArgs,
-    /// The parameter and its values: NAME=START:STOP:STEP or NAME=V1,V2,… (NAME: f, gap, v0, t0, a0, duration).
+    /// The parameter and its values: NAME=START:STOP:STEP or NAME=V1,V2,… (NAME: f, gap, v0, t0, a0, preload, duration).
     #[arg(long, value_parser = plan::parse_param)]
     pub param: ParamValues,
     /// Directory for the per-value records, the state files and the figures
