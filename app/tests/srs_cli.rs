@@ -4,23 +4,15 @@
 //! spectrum of the history written (the filter itself is checked against closed forms in
 //! `lopin_core::shock_spectrum`), over the default band 1/T to 1/(10Δt); the transverse
 //! components stay at rest (ν = 0); the figure is a PNG; bad probes and bands are refused with
-//! the flag and the reason.
+//! the flag and the reason. On a measured history (the top of `base-shock`'s stack), SciPy's
+//! `lsim` of each oscillator's transfer function gives the same spectrum (to 1e-6).
+
+mod readers;
 
 use std::path::Path;
-use std::process::Command;
 
 use lopin_core::shock_spectrum;
-
-fn lopin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_lopin"))
-}
-
-fn scratch(name: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("lopin-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("scratch folder");
-    dir
-}
+use readers::{lopin, python, scratch};
 
 /// The rows of a CSV file of numbers (its header skipped).
 fn rows(path: &Path) -> Vec<Vec<f64>> {
@@ -153,5 +145,65 @@ fn bad_probes_and_bands_are_refused_naming_the_flag() {
         err.contains("run.json") && err.contains("lopin run --out"),
         "{err}"
     );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The spectrum of a measured history, the top of `base-shock` (a base shaken by a half-sine
+/// acceleration, damped materials, frictional contact), against an independent one: SciPy's
+/// `lsim` of H(s) = (2ζωs + ω²)/(s² + 2ζωs + ω²) per frequency (`readers/srs_scipy.py`), at
+/// every one of its 37 frequencies to 1e-6.
+#[test]
+fn a_measured_historys_spectrum_matches_scipy() {
+    let dir = scratch("srs-scipy");
+    let (run, out) = (dir.join("run"), dir.join("srs"));
+    let scene = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../assets/scenes/shock/base-shock.toml"
+    );
+    let o = lopin()
+        .args(["run", scene, "--out"])
+        .arg(&run)
+        .output()
+        .expect("runs");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let o = lopin()
+        .arg("srs")
+        .arg(&run)
+        .args(["--at", "0.02,0.02,0.04", "--out"])
+        .arg(&out)
+        .output()
+        .expect("runs");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/readers/srs_scipy.py");
+    let o = std::process::Command::new(python())
+        .arg(script)
+        .arg(out.join("probe-1.csv"))
+        .arg(out.join("srs-1.csv"))
+        .args(["3", "10"])
+        .output()
+        .unwrap_or_else(|e| {
+            panic!("python: {e}; install the readers with ./scripts/install-readers.sh")
+        });
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let json: serde_json::Value = serde_json::from_slice(&o.stdout).expect("json");
+    let scipy: Vec<f64> = json["srs"]
+        .as_array()
+        .expect("srs")
+        .iter()
+        .map(|x| x.as_f64().expect("number"))
+        .collect();
+    let ours = rows(&out.join("srs-1.csv"));
+    assert_eq!(ours.len(), scipy.len());
+    assert!(ours.len() >= 10);
+    let worst = ours
+        .iter()
+        .zip(&scipy)
+        .map(|(r, s)| (r[3] / s - 1.0).abs())
+        .fold(0.0, f64::max);
+    println!(
+        "base-shock top: SRS against SciPy lsim at {} frequencies: {worst:.2e}",
+        ours.len()
+    );
+    assert!(worst < 1e-6, "{worst:e}");
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -68,16 +68,6 @@ pub fn prestress(problem: &mut Problem, settings: &Settings) -> Result<PreloadRe
     };
     let mut solver = Solver::new(statics, static_settings)?;
     let sol = solver.solve(None)?;
-    if !sol.converged {
-        return Err(LopinError::setting(
-            "preload",
-            format!(
-                "the static phase did not converge: η = {:.3e} after {} iterations (tolerance \
-                 {:.1e}); raise --max-iter, or loosen --tol",
-                sol.eta, sol.iterations, static_settings.tol
-            ),
-        ));
-    }
     let p = solver.problem();
     // each substructure's displacement and tractions at the static step, in equilibrium
     let mut subs = Vec::with_capacity(p.subs.len());
@@ -95,7 +85,7 @@ pub fn prestress(problem: &mut Problem, settings: &Settings) -> Result<PreloadRe
         subs.push(state);
     }
     // the gap each contact node is left with: g0 + n·([u] of the two sides)
-    let gaps = p
+    let gaps: Vec<Option<Vec<f64>>> = p
         .interfaces
         .iter()
         .map(|iface| match &iface.law {
@@ -119,6 +109,18 @@ pub fn prestress(problem: &mut Problem, settings: &Settings) -> Result<PreloadRe
             _ => None,
         })
         .collect();
+    // an opened joint is the reason to give, converged or not (it often stalls the phase)
+    check_joints_stay_closed(p, &gaps)?;
+    if !sol.converged {
+        return Err(LopinError::setting(
+            "preload",
+            format!(
+                "the static phase did not converge: η = {:.3e} after {} iterations (tolerance \
+                 {:.1e}); raise --max-iter, or loosen --tol",
+                sol.eta, sol.iterations, static_settings.tol
+            ),
+        ));
+    }
     let report = PreloadReport {
         iterations: sol.iterations,
         eta: sol.eta,
@@ -127,4 +129,29 @@ pub fn prestress(problem: &mut Problem, settings: &Settings) -> Result<PreloadRe
     };
     problem.set_prestress(Some(StaticState { subs, gaps }));
     Ok(report)
+}
+
+/// A preload that opens a contact the scene closes (its gap g0 ≤ 0 somewhere) leaves a joint
+/// that holds nothing: refused, naming the interface and how far it opened.
+fn check_joints_stay_closed(p: &Problem, gaps: &[Option<Vec<f64>>]) -> Result<()> {
+    let size = p.diameter();
+    for (iface, gap) in p.interfaces.iter().zip(gaps) {
+        let (Law::Contact(c), Some(gap)) = (&iface.law, gap) else {
+            continue;
+        };
+        let closed_before = c.gap.iter().any(|&g| g <= 0.0);
+        let least = gap.iter().copied().fold(f64::INFINITY, f64::min);
+        if closed_before && least > 1e-9 * size {
+            return Err(LopinError::setting(
+                "preload",
+                format!(
+                    "the preload opens contact `{}`: after the static phase its gap is at least \
+                     {least:.3e} m everywhere; a clamping preload pushes the parts together \
+                     (check the sign of its pressure or traction)",
+                    iface.name
+                ),
+            ));
+        }
+    }
+    Ok(())
 }

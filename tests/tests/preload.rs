@@ -243,3 +243,26 @@ fn a_new_preload_warm_starts_from_its_neighbour() {
     );
     assert!((pw / pc - 1.0).abs() < 1e-2, "{pw} {pc}");
 }
+
+/// A preload that pulls the washers outward opens the lap instead of clamping it: refused,
+/// naming the contact and how far it opened.
+#[test]
+fn a_preload_that_opens_the_joint_is_refused() {
+    let mut spec = scene::load("bolted-lap").expect("scene");
+    for b in &mut spec.boundaries {
+        if let Some(n) = &mut b.normal {
+            n.pressure = Some(-200e6);
+        }
+    }
+    let problem = scene::problem_of(&spec, "bolted-lap").expect("builds");
+    let settings = lopin_core::Settings::for_problem(&problem, &spec.solver);
+    let Err(e) = lopin_core::Solver::new(problem, settings) else {
+        panic!("a preload that opens the joint was accepted");
+    };
+    let e = e.to_string();
+    println!("{e}");
+    assert!(
+        e.contains("preload") && e.contains("opens contact `A|B`") && e.contains("sign"),
+        "{e}"
+    );
+}
