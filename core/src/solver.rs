@@ -145,11 +145,8 @@ impl Solver {
     /// After a parameter moved: the preload's static phase again, where the problem has one and
     /// the parameter acts on it (friction, gap, preload); on an error the problem is `before`.
     fn preload_again(&mut self, parameter: Parameter, before: Problem) -> Result<()> {
-        let statics_move = matches!(
-            parameter,
-            Parameter::Friction | Parameter::Gap | Parameter::Preload
-        );
-        if !(statics_move && (self.problem.needs_preload() || before.needs_preload())) {
+        if !(parameter.moves_statics() && (self.problem.needs_preload() || before.needs_preload()))
+        {
             return Ok(());
         }
         self.problem.set_prestress(None);

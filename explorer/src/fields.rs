@@ -108,18 +108,13 @@ pub fn probe(solver: &Solver, sol: &Solution, sub: usize, node: usize) -> ProbeS
         .iter()
         .map(|a| (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt())
         .collect();
-    let freqs = shock_spectrum::frequencies(1.0 / p.time.end(), 0.1 / dt, 12);
+    let (low, high) = shock_spectrum::default_band(dt, p.time.end());
+    let freqs = shock_spectrum::frequencies(low, high, 12);
     let zeta = shock_spectrum::ratio_of_quality(PROBE_Q);
-    let per_component: Vec<Vec<f64>> = (0..3)
-        .map(|c| {
-            let h: Vec<f64> = steps.iter().map(|a| a[c]).collect();
-            shock_spectrum::spectrum(&h, dt, &freqs, zeta)
-        })
-        .collect();
     let spectrum = freqs
         .iter()
-        .enumerate()
-        .map(|(i, &f)| (f, std::array::from_fn(|c| per_component[c][i])))
+        .copied()
+        .zip(shock_spectrum::component_spectra(&steps, dt, &freqs, zeta))
         .collect();
     ProbeSeries {
         speed,

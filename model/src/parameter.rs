@@ -1,13 +1,14 @@
 //! The interface parameters a user moves without refactorizing anything (METHOD §5 laws, §8
 //! multiresolution): the friction coefficient and initial gap of every contact interface, the
 //! amplitude of every non-zero prescribed velocity, traction and acceleration, the preload (the
-//! amplitude of the tractions a static phase applies), and the duration of every boundary pulse. One type reads a parameter's current value
-//! from a problem and applies a new one, validated; the solver, sweeps, the explorer and the
-//! monolithic reference all go through it.
+//! amplitude of the tractions a static phase applies), and the duration of every boundary pulse.
+//! One type reads a parameter's current value from a problem and applies a new one, validated; the
+//! solver, sweeps, the explorer and the monolithic reference all go through it.
 
 use crate::error::{LopinError, Result};
 use crate::interfaces::interface::{BoundaryDof, DofLaw, Law};
 use crate::problem::Problem;
+use crate::time::time_function::TimeFunction;
 
 /// A parameter of the interfaces' laws.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -60,6 +61,12 @@ impl Parameter {
                 ),
             )),
         }
+    }
+
+    /// Whether moving it moves the preload's static equilibrium (friction, gap, preload), so
+    /// that the static phase must be solved again.
+    pub fn moves_statics(&self) -> bool {
+        matches!(self, Self::Friction | Self::Gap | Self::Preload)
     }
 
     /// Short name used in files, tables and plot markers.
@@ -154,7 +161,6 @@ impl Parameter {
                 _ => None,
             })
             .flatten();
-        let boundary_laws = boundary_dofs.clone().map(|d| &d.law);
         let contact = interfaces.clone().find_map(|i| match &i.law {
             Law::Contact(c) => Some(c),
             _ => None,
@@ -162,38 +168,10 @@ impl Parameter {
         match self {
             Self::Friction => contact.map(|c| c.friction),
             Self::Gap => contact.map(|c| c.gap.first().copied().unwrap_or(0.0)),
-            Self::VelocityAmplitude => boundary_laws
-                .filter_map(|law| match law {
-                    DofLaw::Velocity(f) if f.amplitude != 0.0 && f.acceleration().is_none() => {
-                        Some(f.amplitude.abs())
-                    }
-                    _ => None,
-                })
-                .reduce(f64::max),
-            Self::AccelerationAmplitude => boundary_laws
-                .filter_map(|law| match law {
-                    DofLaw::Velocity(f) if f.amplitude != 0.0 && f.acceleration().is_some() => {
-                        Some(f.amplitude.abs())
-                    }
-                    _ => None,
-                })
-                .reduce(f64::max),
-            Self::TractionAmplitude => boundary_dofs
-                .clone()
-                .filter(|d| !d.preload)
-                .filter_map(|d| match &d.law {
-                    DofLaw::Traction(f) if f.amplitude != 0.0 => Some(f.amplitude.abs()),
-                    _ => None,
-                })
-                .reduce(f64::max),
-            Self::Preload => boundary_dofs
-                .clone()
-                .filter(|d| d.preload)
-                .filter_map(|d| match &d.law {
-                    DofLaw::Traction(f) if f.amplitude != 0.0 => Some(f.amplitude.abs()),
-                    _ => None,
-                })
-                .reduce(f64::max),
+            Self::VelocityAmplitude => largest(boundary_dofs, |d| velocity(d, false)),
+            Self::AccelerationAmplitude => largest(boundary_dofs, |d| velocity(d, true)),
+            Self::TractionAmplitude => largest(boundary_dofs, |d| traction(d, false)),
+            Self::Preload => largest(boundary_dofs, |d| traction(d, true)),
             Self::PulseDuration => boundary_dofs
                 .filter_map(BoundaryDof::pulse_duration)
                 .reduce(f64::max),
@@ -262,6 +240,33 @@ impl Parameter {
             Self::PulseDuration => problem.set_pulse_duration(value, zone),
         }
         Ok(())
+    }
+}
+
+/// The largest non-zero amplitude among the laws `law` picks out of `dofs`.
+fn largest<'a>(
+    dofs: impl Iterator<Item = &'a BoundaryDof>,
+    law: impl Fn(&'a BoundaryDof) -> Option<&'a TimeFunction>,
+) -> Option<f64> {
+    dofs.filter_map(law)
+        .filter(|f| f.amplitude != 0.0)
+        .map(|f| f.amplitude.abs())
+        .reduce(f64::max)
+}
+
+/// A dof's prescribed velocity: one integrated from an acceleration, or not.
+fn velocity(d: &BoundaryDof, integrated: bool) -> Option<&TimeFunction> {
+    match &d.law {
+        DofLaw::Velocity(f) if f.acceleration().is_some() == integrated => Some(f),
+        _ => None,
+    }
+}
+
+/// A dof's prescribed traction: a preload's, or not.
+fn traction(d: &BoundaryDof, preload: bool) -> Option<&TimeFunction> {
+    match &d.law {
+        DofLaw::Traction(f) if d.preload == preload => Some(f),
+        _ => None,
     }
 }
 

@@ -69,7 +69,7 @@ impl Problem {
         for iface in &mut self.interfaces {
             if let Law::Boundary(dofs) = &mut iface.law {
                 for d in dofs {
-                    if let crate::interfaces::interface::DofLaw::Velocity(f) = &mut d.law {
+                    if let DofLaw::Velocity(f) = &mut d.law {
                         f.integrate(dt, gamma, steps);
                     }
                 }

@@ -58,6 +58,25 @@ pub fn spectrum(history: &[f64], dt: f64, freqs: &[f64], zeta: f64) -> Vec<f64> 
         .collect()
 }
 
+/// The maximax spectrum of each component of a three-component history, per frequency.
+pub fn component_spectra(history: &[[f64; 3]], dt: f64, freqs: &[f64], zeta: f64) -> Vec<[f64; 3]> {
+    let per_component: Vec<Vec<f64>> = (0..3)
+        .map(|c| {
+            let h: Vec<f64> = history.iter().map(|a| a[c]).collect();
+            spectrum(&h, dt, freqs, zeta)
+        })
+        .collect();
+    (0..freqs.len())
+        .map(|i| std::array::from_fn(|c| per_component[c][i]))
+        .collect()
+}
+
+/// The default band of natural frequencies (Hz) for a history of `duration` s sampled every
+/// `dt` s: from 1/duration to a tenth of the sampling frequency.
+pub fn default_band(dt: f64, duration: f64) -> (f64, f64) {
+    (1.0 / duration, 0.1 / dt)
+}
+
 /// The step-averaged accelerations (v_m − v_{m−1})/Δt of a velocity history v_0..v_N, one per
 /// step (at the mid-steps t_{m−½}).
 pub fn step_accelerations(velocity: &[[f64; 3]], dt: f64) -> Vec<[f64; 3]> {

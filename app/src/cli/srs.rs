@@ -76,7 +76,7 @@ pub fn srs(args: &SrsArgs) -> anyhow::Result<ExitCode> {
     let nyquist = 0.5 / dt;
     let (low, high) = match &args.band {
         Some(b) => parse_band(b)?,
-        None => (1.0 / p.time.end(), 0.1 / dt),
+        None => shock_spectrum::default_band(dt, p.time.end()),
     };
     anyhow::ensure!(
         high <= nyquist,
@@ -96,15 +96,7 @@ pub fn srs(args: &SrsArgs) -> anyhow::Result<ExitCode> {
         );
         let velocity = post::node_velocity(&solver, &solution, sub, node);
         let acceleration = shock_spectrum::step_accelerations(&velocity, dt);
-        let per_component: Vec<Vec<f64>> = (0..3)
-            .map(|c| {
-                let h: Vec<f64> = acceleration.iter().map(|a| a[c]).collect();
-                shock_spectrum::spectrum(&h, dt, &freqs, zeta)
-            })
-            .collect();
-        let spectrum = (0..freqs.len())
-            .map(|i| std::array::from_fn(|c| per_component[c][i]))
-            .collect();
+        let spectrum = shock_spectrum::component_spectra(&acceleration, dt, &freqs, zeta);
         probes.push(Probe {
             at,
             sub,

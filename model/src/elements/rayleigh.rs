@@ -44,18 +44,6 @@ impl Rayleigh {
             beta: 2.0 * zeta / (w1 + w2),
         }
     }
-
-    /// Checks α ≥ 0 and β ≥ 0, finite; the reason for a refusal.
-    pub fn check(&self) -> Result<(), String> {
-        for (name, x) in [("alpha", self.alpha), ("beta", self.beta)] {
-            if !(x.is_finite() && x >= 0.0) {
-                return Err(format!(
-                    "`{name}` must be a finite number ≥ 0 (Rayleigh damping C = alpha M + beta K), got {x}"
-                ));
-            }
-        }
-        Ok(())
-    }
 }
 
 #[cfg(test)]
@@ -72,12 +60,6 @@ mod tests {
         }
         let mid = 2.0 * std::f64::consts::PI * 300.0;
         assert!(r.ratio(mid) < 0.02);
-        assert!(Rayleigh {
-            alpha: -1.0,
-            beta: 0.0
-        }
-        .check()
-        .is_err());
-        assert!(Rayleigh::NONE.check().is_ok() && Rayleigh::NONE.is_none());
+        assert!(Rayleigh::NONE.is_none());
     }
 }

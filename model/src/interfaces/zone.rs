@@ -1,14 +1,15 @@
 //! Zones: interfaces grouped under a name in the scene file (`[[zone]]`), so that each zone's
-//! friction coefficient, initial gap and prescribed velocity amplitude is a parameter of its own
-//! (the laws of METHOD §5, the multiresolution restarts of METHOD §8).
+//! friction coefficient, initial gap, prescribed velocity amplitude and preload is a parameter of
+//! its own (the laws of METHOD §5, the multiresolution restarts of METHOD §8).
 //!
 //! A zone selects the contact interfaces between the body pairs it lists (`bodies`; none: every
 //! pair) whose centre lies in its box (`min`, `max`; none: anywhere) and that lie on one of the
-//! physical surfaces of Gmsh meshes it names (`surfaces`; none: anywhere; the contacts are
-//! split by surface, [`crate::interfaces::surface_groups`]), and, for `v0` and `preload`, the
-//! boundary interfaces with a non-zero prescribed velocity or a preload of the bodies it names (none: every body) whose centre lies in
-//! the box and whose surface it names. A zone that selects nothing, names an unknown body or a
-//! surface no mesh file defines, or repeats a name is an error naming the field.
+//! physical surfaces of Gmsh meshes it names (`surfaces`; none: anywhere; the contacts are split by
+//! surface, [`crate::interfaces::surface_groups`]), and, for `v0` and `preload`, the boundary
+//! interfaces with a non-zero prescribed velocity or a preload of the bodies it names (none: every
+//! body) whose centre lies in the box and whose surface it names. A zone that selects nothing,
+//! names an unknown body or a surface no mesh file defines, or repeats a name is an error naming
+//! the field.
 
 use crate::error::{LopinError, Result};
 use crate::interfaces::interface::{DofLaw, Interface, Law};

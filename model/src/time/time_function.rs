@@ -204,13 +204,7 @@ impl TimeFunction {
     pub fn value(&self, t: f64) -> f64 {
         match &self.shape {
             Shape::Ramp { profile, time } => ramp_value(self.amplitude, *profile, *time, t),
-            Shape::Pulse {
-                kind,
-                duration,
-                rise,
-            } => self.amplitude * pulse_value(*kind, *duration, *rise, t),
-            Shape::Table(points) => self.amplitude * table_value(points, t),
-            Shape::Integrated(i) => self.amplitude * i.value(t),
+            shape => self.amplitude * shape.unit_value(t),
         }
     }
 

@@ -1,7 +1,8 @@
-//! The assembled structure: global lumped mass, stiffness and Rayleigh damping (element matrices
-//! of every substructure summed on the merged nodes, C with each substructure's α and β), the
-//! strongly imposed velocities, the prescribed tractions as nodal loads A·F_d (METHOD §1, §5
-//! boundary laws), and the contact node pairs with their local frames (METHOD §5: normal n outward of side 1, tangent plane).
+//! The assembled structure: global lumped mass, stiffness and Rayleigh damping (element matrices of
+//! every substructure summed on the merged nodes, C with each substructure's α and β), the strongly
+//! imposed velocities, the prescribed tractions as nodal loads A·F_d (METHOD §1, §5 boundary laws),
+//! and the contact node pairs with their local frames (METHOD §5: normal n outward of side 1,
+//! tangent plane).
 
 use faer::sparse::Triplet;
 use lopin_model::time::time_scheme::StepCoefficients;

@@ -146,8 +146,9 @@ impl Monolithic {
                 self.asm = asm;
             }
         }
-        // the preload's equilibrium moves with friction, gaps and tractions
-        self.start = Self::static_start(&self.problem)?;
+        if parameter.moves_statics() {
+            self.start = Self::static_start(&self.problem)?;
+        }
         Ok(())
     }
 
