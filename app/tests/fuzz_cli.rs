@@ -65,7 +65,7 @@ struct Opt {
     extreme: &'static [&'static str],
 }
 
-const OPTIONS: [Opt; 10] = [
+const OPTIONS: [Opt; 11] = [
     Opt {
         flag: "--refine",
         ordinary: &["1", "2"],
@@ -130,6 +130,11 @@ const OPTIONS: [Opt; 10] = [
         flag: "--macro",
         ordinary: &["on", "off"],
         extreme: &["maybe", ""],
+    },
+    Opt {
+        flag: "--factors",
+        ordinary: &["double", "single"],
+        extreme: &["half", "", "DOUBLE"],
     },
     Opt {
         flag: "--out",
@@ -402,6 +407,7 @@ fn aliases(flag: &str) -> &'static [&'static str] {
         "--window" => &["`window`", "window"],
         "--max-iter" => &["`max_iter`", "max_iter"],
         "--macro" => &["macro"],
+        "--factors" => &["factors"],
         "--refine" => &["refine"],
         "--split" => &["split"],
         "--f" => &["friction"],

@@ -103,13 +103,7 @@ impl Estimate {
         let p = solver.problem();
         let mut e = Self::of(p, solver.settings());
         e.factorizations = Some(solver.factors().len());
-        e.factor_bytes = Some(
-            solver
-                .factors()
-                .iter()
-                .map(|f| f.factor_nnz() * (F64 + std::mem::size_of::<usize>()))
-                .sum(),
-        );
+        e.factor_bytes = Some(solver.factors().iter().map(|f| f.bytes()).sum());
         e.macro_bytes = solver.macro_problem().map(|mp| {
             mp.homogenized
                 .iter()

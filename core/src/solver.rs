@@ -20,6 +20,8 @@
 //! each factorizes and marches only the substructures [`crate::distributed::distribution`] deals it, and
 //! reaches the same iterates, η and decisions as the run on one machine.
 
+pub mod batch;
+pub mod end_energy;
 pub mod iteration;
 mod linear;
 mod non_finite;
@@ -44,6 +46,7 @@ use crate::macro_scale::operator_classes::{factor_classes, Classes};
 use crate::par;
 use crate::parameter::Parameter;
 use crate::problem::Problem;
+use crate::scene::settings::FactorPrecision;
 use crate::stages::linear_stage::LinearWork;
 use crate::state::InterfaceState;
 use linear::{LinearStage, SingleScale};
@@ -57,8 +60,9 @@ pub struct Solver {
     settings: Settings,
     /// Substructures sharing one factorization of S.
     classes: Classes,
-    /// One factorization per class (None: a class with no substructure on this rank).
-    factors: Vec<Option<CholeskyFactor>>,
+    /// One factorization per class (None: a class with no substructure on this rank), shared
+    /// with the lanes made from this solver ([`Self::lane`]) until one of them refactorizes.
+    factors: Arc<Vec<Option<CholeskyFactor>>>,
     /// Which rank holds which substructure and interface (everything on one rank by default).
     distribution: Distribution,
     /// The linear stage the settings ask for, with its buffers.
@@ -114,7 +118,12 @@ impl Solver {
                 .map_err(|reason| LopinError::setting("ranks", reason))?,
         };
         check_distributable(&settings, &distribution)?;
-        let factors = factorize(&problem, &classes, settings.k, &distribution)?;
+        let factors = Arc::new(factorize(
+            &problem,
+            &classes,
+            (settings.k, settings.factors),
+            &distribution,
+        )?);
         let works = make_works(&problem, &classes, &factors, &distribution);
         let linear = if settings.two_scale {
             let mp = MacroProblem::new(&problem, settings.k, &classes, &factors, &distribution)?;
@@ -181,7 +190,8 @@ impl Solver {
         &self.settings
     }
 
-    /// Changes the settings; refactorizes once if k, ρ∞ or the direction shape changed, and
+    /// Changes the settings; refactorizes once if k, ρ∞, the direction shape or the factors'
+    /// precision changed, and
     /// switches the linear stage when the two-scale switch changed (building the macro problem
     /// if none is held for these operators).
     /// On an error the solver keeps its previous settings.
@@ -195,14 +205,17 @@ impl Solver {
             // the classes of identical operators may split or merge with the direction
             search_direction::apply(&mut self.problem, settings.directions);
             let classes = std::mem::replace(&mut self.classes, factor_classes(&self.problem.subs));
-            if let Err(e) = self.refactorize(settings.k) {
+            if let Err(e) = self.refactorize(settings.k, settings.factors) {
                 search_direction::apply(&mut self.problem, directions);
                 self.classes = classes;
                 self.problem.set_scheme(scheme);
                 return Err(e);
             }
-        } else if settings.k != self.settings.k || self.problem.scheme != scheme {
-            if let Err(e) = self.refactorize(settings.k) {
+        } else if settings.k != self.settings.k
+            || self.problem.scheme != scheme
+            || settings.factors != self.settings.factors
+        {
+            if let Err(e) = self.refactorize(settings.k, settings.factors) {
                 self.problem.set_scheme(scheme);
                 return Err(e);
             }
@@ -211,6 +224,7 @@ impl Solver {
         self.settings.k = settings.k;
         self.settings.directions = settings.directions;
         self.settings.rho_inf = settings.rho_inf;
+        self.settings.factors = settings.factors;
         self.set_scale(settings.two_scale, settings.k)?;
         self.settings = settings;
         self.counters.setup_s += start.elapsed().as_secs_f64();
@@ -232,8 +246,13 @@ impl Solver {
     /// Factorizes S of every class for search direction `k` and the current scheme, and leaves
     /// the single-scale linear stage on the new factors (the macro problem, built on the old
     /// ones, is dropped). On an error nothing changes.
-    fn refactorize(&mut self, k: f64) -> Result<()> {
-        self.factors = factorize(&self.problem, &self.classes, k, &self.distribution)?;
+    fn refactorize(&mut self, k: f64, precision: FactorPrecision) -> Result<()> {
+        self.factors = Arc::new(factorize(
+            &self.problem,
+            &self.classes,
+            (k, precision),
+            &self.distribution,
+        )?);
         let works = make_works(
             &self.problem,
             &self.classes,
@@ -387,11 +406,12 @@ fn check_distributable(settings: &Settings, distribution: &Distribution) -> Resu
     Ok(())
 }
 
-/// Factorizes S of the representative of every class with a substructure on this rank.
+/// Factorizes S of the representative of every class with a substructure on this rank, for
+/// search direction k, its factor kept in `precision`.
 fn factorize(
     problem: &Problem,
     classes: &Classes,
-    k: f64,
+    (k, precision): (f64, FactorPrecision),
     distribution: &Distribution,
 ) -> Result<Vec<Option<CholeskyFactor>>> {
     let time = problem.step_coefficients();
@@ -401,12 +421,20 @@ fn factorize(
             return Ok(None);
         }
         let sub = &problem.subs[classes.representatives[c]];
-        CholeskyFactor::try_new(sub.ndof(), &sub.operator_triplets(&time, k))
-            .map(Some)
-            .map_err(|failure| LopinError::Factorization {
-                sub: sub.name.clone(),
-                reason: sub.describe_failure(&failure),
-            })
+        let triplets = sub.operator_triplets(&time, k);
+        match precision {
+            FactorPrecision::Double => CholeskyFactor::try_new(sub.ndof(), &triplets),
+            #[cfg(not(target_arch = "wasm32"))]
+            FactorPrecision::Single => CholeskyFactor::try_new_single(sub.ndof(), &triplets),
+            // the browser build keeps double precision
+            #[cfg(target_arch = "wasm32")]
+            FactorPrecision::Single => CholeskyFactor::try_new(sub.ndof(), &triplets),
+        }
+        .map(Some)
+        .map_err(|failure| LopinError::Factorization {
+            sub: sub.name.clone(),
+            reason: sub.describe_failure(&failure),
+        })
     })
     .into_iter()
     .collect()

@@ -183,6 +183,7 @@ impl Library {
             eta_history: Vec::new(),
             converged: true,
             cancelled: false,
+            end: None,
         })
     }
 

@@ -8,7 +8,7 @@
 use crate::error::{LopinError, Result};
 use crate::interfaces::search_direction::Directions;
 use crate::problem::Problem;
-use crate::scene::settings::{StopTest, WindowStart};
+use crate::scene::settings::{FactorPrecision, StopTest, WindowStart};
 use crate::scene::spec::SolverSpec;
 use crate::time::time_scheme::TimeScheme;
 
@@ -60,6 +60,9 @@ pub struct Settings {
     /// trapezoidal rule). The problem's scheme follows it; changing it refactorizes.
     #[serde(default = "undamped", skip_serializing_if = "is_undamped")]
     pub rho_inf: f64,
+    /// The precision the factors of S keep ([`FactorPrecision`]). Changing it refactorizes.
+    #[serde(default)]
+    pub factors: FactorPrecision,
 }
 
 fn undamped() -> f64 {
@@ -106,6 +109,7 @@ impl Settings {
             stop: spec.stop.unwrap_or_default(),
             anderson: spec.anderson.unwrap_or(0),
             rho_inf: spec.rho_inf.unwrap_or(1.0),
+            factors: spec.factors.unwrap_or_default(),
         }
     }
 

@@ -6,8 +6,6 @@
 //! two chains solve every configuration once with two cold starts; on Latin-hypercube draws
 //! around a design point, projected starts save over the nearest state and cold solves.
 
-use std::sync::Mutex;
-
 use lopin_core::scene;
 use lopin_core::study::runner::{self, Outcome, RunOptions};
 use lopin_core::study::Predictor;
@@ -67,26 +65,18 @@ fn solve_design(
     predictor: Predictor,
 ) -> Vec<Outcome> {
     let path = Path::greedy(&design.points);
-    let out = Mutex::new(Vec::new());
-    runner::run(
+    runner::run_gathered(
         &|| Solver::new(problem.clone(), settings),
         design,
         &Chains::split(&path, chains),
         RunOptions {
             cold,
             compare_cold: false,
+            batch: 1,
             predictor,
         },
-        runner::Resumed::nothing(),
-        &|o, _| {
-            out.lock().expect("lock").push(o);
-            Ok(())
-        },
     )
-    .expect("study");
-    let mut out = out.into_inner().expect("lock");
-    out.sort_by_key(|o| o.index);
-    out
+    .expect("study")
 }
 
 /// A study of `samples` Latin-hypercube draws of f ~ normal(0.3, 0.05) and gap ~ normal(10 µm,

@@ -1,6 +1,7 @@
 //! `lopin bench`: setup time, time per iteration and the time of the triangular solves alone
 //! on `two-blocks` at refine 1 and 2, so the overhead ratio (iteration / triangular solves) is
-//! visible. Ratios are measured within one run; the table (comfy-table) is printed at the end.
+//! visible; with `--batch`, the study table of [`super::bench_batch`]; with `--accuracy`, the
+//! time-to-accuracy table of [`super::bench_accuracy`]. Ratios are measured within one run; the table (comfy-table) is printed at the end.
 
 use std::process::ExitCode;
 
@@ -26,9 +27,43 @@ pub struct BenchArgs {
     /// Disable the check for substructures whose inputs did not change (on by default).
     #[arg(long)]
     no_skip: bool,
+    /// Instead of the iteration table: studies solved this many configurations at a time on one
+    /// factorization, against one at a time and against the same chains on threads (e.g.
+    /// 1,2,4,8).
+    #[arg(long, value_delimiter = ',')]
+    batch: Vec<usize>,
+    /// The studies of --batch: `sweep` (f = 0:0.5:0.05, 11 values) and `grid` (that × gap =
+    /// 0:20e-6:2e-6, 121 configurations).
+    #[arg(long, value_delimiter = ',', default_value = "sweep,grid")]
+    studies: Vec<String>,
+    /// Also write the --batch or --accuracy table's rows as JSON to this file.
+    #[arg(long)]
+    json: Option<std::path::PathBuf>,
+    /// Instead of the iteration table: the time to a velocity error of 1e-3 and 1e-6 of each
+    /// case (two-blocks, two-blocks-ramp, two-blocks --refine 2, granular-small, granular-poly)
+    /// under the default settings, the whole interval and the whole interval at ρ∞ = 0.5.
+    #[arg(long, conflicts_with = "batch")]
+    accuracy: bool,
+    /// With --accuracy: only the cases of these scenes.
+    #[arg(long, value_delimiter = ',')]
+    cases: Vec<String>,
 }
 
 pub fn bench(args: &BenchArgs) -> anyhow::Result<ExitCode> {
+    if args.accuracy {
+        super::bench_accuracy::bench_accuracy(&args.cases, args.json.as_deref())?;
+        return Ok(ExitCode::SUCCESS);
+    }
+    if !args.batch.is_empty() {
+        super::bench_batch::bench_batches(
+            &args.scene,
+            &args.refine,
+            &args.studies,
+            &args.batch,
+            args.json.as_deref(),
+        )?;
+        return Ok(ExitCode::SUCCESS);
+    }
     let mut table = column_table([
         "scene",
         "refine",

@@ -3,6 +3,8 @@
 mod accuracy;
 mod accuracy_plot;
 mod bench;
+mod bench_accuracy;
+mod bench_batch;
 mod checkpoint;
 mod compare;
 mod docs;

@@ -133,6 +133,8 @@ pub struct LatinSettings {
     pub anderson: usize,
     /// Where cold windows start.
     pub window_start: lopin_core::scene::settings::WindowStart,
+    /// The precision the factors keep.
+    pub factors: lopin_core::scene::settings::FactorPrecision,
     /// Why these windows (absent where the command set them itself).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub window_reason: Option<String>,
@@ -192,6 +194,7 @@ impl<'a> RunReport<'a> {
                     stop: set.stop,
                     anderson: set.anderson,
                     window_start: set.window_start,
+                    factors: set.factors,
                     window_reason: self.windows.map(|w| w.reason.clone()),
                 },
             },
@@ -276,9 +279,11 @@ impl<'a> RunReport<'a> {
         rows.row(
             "factorizations",
             format!(
-                "{} distinct for {} substructures",
+                "{} distinct for {} substructures, {} in {} precision",
                 self.solver.factors().len(),
-                p.subs.len()
+                p.subs.len(),
+                lopin_core::estimate::bytes(self.solver.factors().iter().map(|f| f.bytes()).sum()),
+                set.factors.name()
             ),
         );
         if let Some(r) = self.solver.preload() {

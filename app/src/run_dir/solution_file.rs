@@ -287,6 +287,7 @@ pub fn decode_solution(bytes: &[u8], expected: Fingerprint) -> anyhow::Result<So
         eta_history: Vec::new(),
         converged: body.converged,
         cancelled: false,
+        end: None,
     })
 }
 
@@ -334,6 +335,7 @@ mod tests {
             eta_history: Vec::new(),
             converged: true,
             cancelled: false,
+            end: None,
         }
     }
 

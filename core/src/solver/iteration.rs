@@ -27,7 +27,8 @@
 //! η sums gathered, so that every rank takes the same decisions. [`Solver::finish`] gathers the
 //! solution onto every rank.
 
-use super::linear::{LinearOutcome, LinearStage, Operators};
+use super::end_energy::end_energy;
+use super::linear::{BatchInput, LinearOutcome, LinearStage, Operators};
 use super::{non_finite, Control, Iterate, Settings, Solution, Solver};
 use crate::counters::{Instant, IterationRecord};
 use crate::distributed::distribution::Distribution;
@@ -299,16 +300,9 @@ impl Solver {
         run: &mut SolveRun,
         observer: &mut dyn FnMut(&Iterate<'_>) -> Control,
     ) -> bool {
-        if run.done {
+        let Some(begun) = self.iteration_local(run) else {
             return true;
-        }
-        let set = self.settings;
-        run.it += 1;
-        run.iterations += 1;
-        let comm0 = self.distribution.comm_seconds();
-        let t_local = Instant::now();
-        run.local_stage(&self.problem, set.k, &self.distribution);
-        let local_s = t_local.elapsed().as_secs_f64();
+        };
         let t_linear = Instant::now();
         let ops = Operators {
             subs: &self.problem.subs,
@@ -316,7 +310,38 @@ impl Solver {
             factors: &self.factors,
             distribution: &self.distribution,
         };
-        let outcome = run.linear_stage(&self.problem, &mut self.linear, ops, &set);
+        let outcome = run.linear_stage(&self.problem, &mut self.linear, ops, &self.settings);
+        self.iteration_end(run, begun, outcome, t_linear, observer)
+    }
+
+    /// The start of one iteration of `run`: stage 1 (None: the solve has ended).
+    pub(super) fn iteration_local(&mut self, run: &mut SolveRun) -> Option<Begun> {
+        if run.done {
+            return None;
+        }
+        run.it += 1;
+        run.iterations += 1;
+        let comm0 = self.distribution.comm_seconds();
+        let t_local = Instant::now();
+        run.local_stage(&self.problem, self.settings.k, &self.distribution);
+        Some(Begun {
+            comm0,
+            local_s: t_local.elapsed().as_secs_f64(),
+        })
+    }
+
+    /// The rest of one iteration of `run` after its linear stage (begun at `t_linear`): stages
+    /// 3 to 5, the record and the observer. Returns whether the solve has ended.
+    pub(super) fn iteration_end(
+        &mut self,
+        run: &mut SolveRun,
+        begun: Begun,
+        outcome: LinearOutcome,
+        t_linear: Instant,
+        observer: &mut dyn FnMut(&Iterate<'_>) -> Control,
+    ) -> bool {
+        let set = self.settings;
+        let Begun { comm0, local_s } = begun;
         run.indicator(outcome.sums, &self.problem, set.k, &self.distribution);
         if !run.eta.is_finite() {
             // the first non-finite value stops the solve where it appeared
@@ -396,7 +421,19 @@ impl Solver {
     /// the next solve on the same ranks and to post-process its substructures;
     /// [`Solver::gather_to_root`] completes it on rank 0 for files.
     pub fn finish(&self, run: SolveRun) -> Solution {
+        let reached_end = run.m0 > self.problem.time.steps && !run.cancelled;
+        let end = (reached_end && matches!(self.linear, LinearStage::SingleScale(_)))
+            .then(|| {
+                end_energy(
+                    &self.problem,
+                    &self.distribution,
+                    &run.s_new,
+                    &run.sub_states,
+                )
+            })
+            .flatten();
         Solution {
+            end,
             state: run.s,
             hats: run.hats,
             iterations: run.iterations,
@@ -407,6 +444,15 @@ impl Solver {
             cancelled: run.cancelled,
         }
     }
+}
+
+/// What the start of an iteration measured ([`Solver::iteration_local`]).
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Begun {
+    /// Seconds in communication between ranks before it.
+    comm0: f64,
+    /// Seconds of its local stage.
+    local_s: f64,
 }
 
 impl SolveRun {
@@ -456,6 +502,35 @@ impl SolveRun {
         let outcome = linear.run(ops, &self.sub_states, &lin, whole, &mut self.s_new.subs);
         self.window_sums = outcome.sums;
         outcome
+    }
+
+    /// What stage 2 of this run reads when it marches with other runs sharing its operators
+    /// ([`super::linear::SingleScale::run_batched`]): its input and its s_new to write.
+    pub(crate) fn batch_parts<'a>(
+        &'a mut self,
+        problem: &'a Problem,
+        ops: Operators<'a>,
+        settings: &Settings,
+    ) -> (BatchInput<'a>, &'a mut [TraceHistory]) {
+        let (m0, m1) = (self.m0, self.m1);
+        let input = BatchInput {
+            ops,
+            starts: &self.sub_states,
+            lin: LinearInput {
+                interfaces: &problem.interfaces,
+                hats: &self.hats,
+                k: settings.k,
+                time: problem.step_coefficients(),
+                steps: (m0, m1),
+            },
+            whole: settings.skip_unchanged && m0 == 1 && m1 == problem.time.steps,
+        };
+        (input, &mut self.s_new.subs)
+    }
+
+    /// The η sums of a linear stage marched with other runs ([`Self::batch_parts`]).
+    pub(crate) fn set_window_sums(&mut self, sums: IndicatorSums) {
+        self.window_sums = sums;
     }
 
     /// Stage 3, error indicator (METHOD §6–7): η of the window from its sums and the norm carried

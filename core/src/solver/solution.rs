@@ -43,6 +43,7 @@ impl Iterate<'_> {
             eta_history: self.eta_history.to_vec(),
             converged: false,
             cancelled: false,
+            end: None,
         }
     }
 }
@@ -67,4 +68,8 @@ pub struct Solution {
     pub converged: bool,
     /// Whether an observer stopped the solve.
     pub cancelled: bool,
+    /// The energies at the last step, taken from the last linear stages of a single-scale
+    /// solve that reached the end of the interval ([`super::end_energy`]; None otherwise: a
+    /// replay gives them).
+    pub end: Option<super::end_energy::EndEnergy>,
 }

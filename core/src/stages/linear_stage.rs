@@ -17,7 +17,9 @@
 //! K u_m = K u_{m−1} + d_V K v_{m−1} + d_A K a_{m−1} + c_K K v_m (trapezoidal:
 //! (Δt/2) K (v_{m−1} + v_m)), K a_m = e_V K (v_m − v_{m−1}) − e_A K a_{m−1},
 //! so K(u + d_V v + d_A a) is carried from step to step at O(n) cost (only the triangular solves
-//! remain per step; METHOD §11 cost model).
+//! remain per step; METHOD §11 cost model). A factor kept in single precision solves S v = rhs
+//! only to its rounding, which the recovered product would carry from step to step: there
+//! c_K K v_m is a product with K.
 
 use crate::interfaces::interface::Interface;
 use crate::linalg::factor::{CholeskyFactor, SolveScratch};
@@ -107,6 +109,8 @@ pub struct LinearWork {
     /// Ŵ gathered into trace layout for the current step.
     pub what: Vec<f64>,
     scratch: SolveScratch,
+    /// The factor keeps single precision: c_K K v_m is computed from K, not from the solve.
+    single: bool,
 }
 
 impl LinearWork {
@@ -120,6 +124,7 @@ impl LinearWork {
             fhat: vec![0.0; sub.trace_len()],
             what: vec![0.0; sub.trace_len()],
             scratch: factor.scratch(),
+            single: factor.is_single(),
         }
     }
 
@@ -133,7 +138,14 @@ impl LinearWork {
             fhat: Vec::new(),
             what: Vec::new(),
             scratch: SolveScratch::none(),
+            single: false,
         }
+    }
+
+    /// The right-hand side [`form_rhs`] formed, to be replaced by its solution v¹ before
+    /// [`complete`].
+    pub fn rhs_mut(&mut self) -> &mut [f64] {
+        &mut self.rhs_then_v
     }
 
     /// Gathers ŝ of step m from the interface sides of `sub` into trace layout.
@@ -201,6 +213,14 @@ pub fn predict(
     input: &LinearInput<'_>,
     m: usize,
 ) {
+    form_rhs(sub, work, input, m);
+    factor.solve_in_place(&mut work.rhs_then_v, &mut work.scratch);
+}
+
+/// [`predict`] without its solve: gathers ŝ_m and forms r_m + Bᵀ A (F̂_m + k Ŵ_m) in
+/// [`LinearWork::rhs_mut`], where a caller solving several right-hand sides through one pass of
+/// the factor puts v¹ back before [`complete`].
+pub fn form_rhs(sub: &Substructure, work: &mut LinearWork, input: &LinearInput<'_>, m: usize) {
     let (k, c) = (input.k, &input.time);
     work.gather_hat(sub, input.interfaces, input.hats, m);
     let LinearWork {
@@ -209,7 +229,7 @@ pub fn predict(
         rhs_then_v: rhs,
         fhat,
         what,
-        scratch,
+        ..
     } = work;
     // r_m = M(c_M v + c_A a) − K(u + d_V v + d_A a) + Bᵀ A (F̂ + k Ŵ)
     if c.trapezoidal {
@@ -228,7 +248,6 @@ pub fn predict(
         rhs[d] += sub.trace_area[j] * (fhat[j] + k * sub.trace_k[j] * what[j]);
     }
     y.copy_from_slice(rhs);
-    factor.solve_in_place(rhs, scratch);
 }
 
 /// F¹ = F̂_m + k (Ŵ_m − B v¹) on the trace, after [`predict`] (METHOD §9 step 1).
@@ -262,6 +281,7 @@ pub fn complete(
     correction: Option<Correction<'_>>,
 ) -> IndicatorSums {
     let (k, c) = (input.k, &input.time);
+    let single = work.single;
     let LinearWork {
         state,
         rhs_then_ckv: y,
@@ -300,7 +320,11 @@ pub fn complete(
         out.f[r.start + j] = f;
         sums.add_dof(a, kj, (f, w), (fhat[j], what[j]));
     }
-    if ck != c.stiffness {
+    if single {
+        // a single-precision factor solves S v = rhs only to its rounding: c_K K v_m from K
+        sub.stiffness.mul_into(rhs, y);
+        y.iter_mut().for_each(|x| *x *= c.stiffness);
+    } else if ck != c.stiffness {
         // damped by β: c_K K v_m from (c_K + β) K v_m
         let scale = c.stiffness / ck;
         y.iter_mut().for_each(|x| *x *= scale);

@@ -6,8 +6,10 @@
 //! in which order ([`path`]: a greedy nearest-neighbour path in scaled parameter space, cut into
 //! chains that run at once), from which start ([`predictor`], the one `Predictor`, reading what a
 //! [`chain`] has converged to: its last states and the [`store`] of converged states kept in f32),
-//! and what is reported of each ([`quantities`]); [`runner`] runs the chains at once.
+//! and what is reported of each ([`quantities`]); [`runner`] runs the chains at once, each on a
+//! thread, or [`batched`] in lanes that share one factorization and solve together.
 
+pub mod batched;
 pub mod chain;
 pub mod design;
 pub mod path;

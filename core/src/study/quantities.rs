@@ -4,7 +4,8 @@
 //! ([`crate::dissipation`]); in a distributed run every rank calls [`Quantities::of`].
 
 use crate::dissipation::contact_work;
-use crate::post;
+use crate::post::{self, ContactHistory};
+use crate::solver::end_energy::EndEnergy;
 use crate::solver::{Solution, Solver};
 
 /// The quantities of interest of one solved configuration.
@@ -36,14 +37,31 @@ impl Quantities {
     ];
 
     /// The quantities of a solution.
+    /// The energies at the end come from the solve's last linear stages where it kept them
+    /// ([`Solution::end`]), else from a replay of the interval ([`post::energy`]).
     pub fn of(solver: &Solver, sol: &Solution) -> Self {
-        let s = post::summary(solver, sol);
+        let contact = post::gathered_contact(solver, sol);
+        let end = sol.end.unwrap_or_else(|| {
+            let e = post::energy(solver, sol);
+            let n = e.kinetic.len() - 1;
+            EndEnergy {
+                kinetic: e.kinetic[n],
+                strain: e.strain[n],
+                input_work: e.input_work[n],
+            }
+        });
         let w = contact_work(solver, sol);
         Self {
-            peak_normal_force: s.peak_normal_force,
-            max_slip: s.max_slip,
-            energy_end: s.kinetic_end + s.strain_end,
-            input_work: s.input_work,
+            peak_normal_force: contact
+                .iter()
+                .map(ContactHistory::peak_normal_force)
+                .fold(0.0, f64::max),
+            max_slip: contact
+                .iter()
+                .map(ContactHistory::max_slip)
+                .fold(0.0, f64::max),
+            energy_end: end.kinetic + end.strain,
+            input_work: end.input_work,
             friction_work: w.friction,
             normal_work: w.normal,
         }

@@ -45,6 +45,40 @@ pub struct Outcome {
     pub cold_iterations: Option<usize>,
 }
 
+impl Outcome {
+    /// The outcome of configuration `solved` of chain `chain`, solved by `solver` (and solved
+    /// again cold when `compare_cold`).
+    pub(super) fn of(
+        solver: &mut Solver,
+        solved: &Solved,
+        chain: usize,
+        compare_cold: bool,
+    ) -> Result<Self> {
+        let quantities = Quantities::of(solver, &solved.solution);
+        let cold_iterations = if compare_cold {
+            Some(solver.solve(None)?.iterations)
+        } else {
+            None
+        };
+        let sol = &solved.solution;
+        Ok(Outcome {
+            index: solved.index,
+            chain,
+            position: solved.position,
+            start: solved.start.from,
+            start_change: solved.start.change,
+            start_residual: solved.start.residual,
+            start_distance: solved.start.distance,
+            iterations: sol.iterations,
+            eta: sol.eta,
+            converged: sol.converged,
+            wall_s: solved.wall_s,
+            quantities,
+            cold_iterations,
+        })
+    }
+}
+
 /// How a study runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct RunOptions {
@@ -54,6 +88,9 @@ pub struct RunOptions {
     pub compare_cold: bool,
     /// What a warm configuration starts from.
     pub predictor: Predictor,
+    /// Configurations solved together on one factorization ([`super::batched`]; 1: each chain
+    /// on a thread with a solver of its own).
+    pub batch: usize,
 }
 
 /// What a resumed study holds already.
@@ -88,6 +125,9 @@ pub fn run(
     resumed: Resumed<'_>,
     finished: &(dyn Fn(Outcome, &InterfaceState) -> Result<()> + Sync),
 ) -> Result<Vec<usize>> {
+    if options.batch > 1 {
+        return super::batched::run(make_solver, design, chains, options, resumed, finished);
+    }
     let points = scaled(&design.points);
     let stop = AtomicBool::new(false);
     let first_error: Mutex<Option<crate::LopinError>> = Mutex::new(None);
@@ -130,6 +170,31 @@ pub fn run(
     }
 }
 
+/// [`run`] of a study started afresh, every outcome gathered and returned in configuration
+/// order (for callers that read them all at the end: benchmarks, tests).
+pub fn run_gathered(
+    make_solver: &(dyn Fn() -> Result<Solver> + Sync),
+    design: &Design,
+    chains: &Chains,
+    options: RunOptions,
+) -> Result<Vec<Outcome>> {
+    let out = Mutex::new(Vec::new());
+    run(
+        make_solver,
+        design,
+        chains,
+        options,
+        Resumed::nothing(),
+        &|o, _| {
+            out.lock().unwrap_or_else(|p| p.into_inner()).push(o);
+            Ok(())
+        },
+    )?;
+    let mut out = out.into_inner().unwrap_or_else(|p| p.into_inner());
+    out.sort_by_key(|o| o.index);
+    Ok(out)
+}
+
 #[allow(clippy::too_many_arguments)]
 fn run_chain(
     make_solver: &(dyn Fn() -> Result<Solver> + Sync),
@@ -168,31 +233,8 @@ fn run_chain(
         &mut kept,
         &mut |_, _| Control::Continue,
         &mut |solver, solved| {
-            let quantities = Quantities::of(solver, &solved.solution);
-            let cold_iterations = if options.compare_cold {
-                Some(solver.solve(None)?.iterations)
-            } else {
-                None
-            };
-            let sol = &solved.solution;
-            finished(
-                Outcome {
-                    index: solved.index,
-                    chain: c,
-                    position: solved.position,
-                    start: solved.start.from,
-                    start_change: solved.start.change,
-                    start_residual: solved.start.residual,
-                    start_distance: solved.start.distance,
-                    iterations: sol.iterations,
-                    eta: sol.eta,
-                    converged: sol.converged,
-                    wall_s: solved.wall_s,
-                    quantities,
-                    cold_iterations,
-                },
-                &sol.state,
-            )
+            let outcome = Outcome::of(solver, solved, c, options.compare_cold)?;
+            finished(outcome, &solved.solution.state)
         },
         &|failure| failure.error,
     )?;

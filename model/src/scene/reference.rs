@@ -183,6 +183,13 @@ const RULES: &[Rule] = &[
         outside: out(Boxes, "solver.macro", "\"yes\""),
         inside: out(Boxes, "solver.macro", "true"),
     },
+    Rule {
+        key: "solver.factors",
+        unit: "",
+        range: "`double` or `single`",
+        outside: out(Boxes, "solver.factors", "\"half\""),
+        inside: out(Boxes, "solver.factors", "\"single\""),
+    },
     // [[material]]
     Rule {
         key: "material.name",

@@ -137,6 +137,12 @@ pub struct SolverSpec {
     #[serde(default, rename = "macro", skip_serializing_if = "Option::is_none")]
     #[cfg_attr(feature = "cli", arg(long = "macro", value_name = "on|off", value_parser = crate::scene::settings::switch_from_arg))]
     pub two_scale: Option<bool>,
+    /// Precision the factors of S are kept in: `double`, or `single` (half their memory and
+    /// faster triangular solves, the linear stage accurate to a few parts in 10⁶: for
+    /// tolerances of 1e-5 and looser; default double).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "cli", arg(long, value_parser = crate::scene::settings::FactorPrecision::from_arg))]
+    pub factors: Option<crate::scene::settings::FactorPrecision>,
 }
 
 impl SolverSpec {
@@ -157,6 +163,7 @@ impl SolverSpec {
             window_start: self.window_start.or(lower.window_start),
             anderson: self.anderson.or(lower.anderson),
             two_scale: self.two_scale.or(lower.two_scale),
+            factors: self.factors.or(lower.factors),
         }
     }
 }

@@ -67,6 +67,11 @@ pub struct StudyArgs {
     /// are dealt to the ranks. Default: one per rank (one without mpirun).
     #[arg(long)]
     pub chains: Option<usize>,
+    /// Configurations solved together: this many chains advance iteration by iteration on one
+    /// shared factorization, each linear stage solving all their right-hand sides in one pass
+    /// through each substructure's factor (then --chains defaults to this many per rank).
+    #[arg(long, default_value_t = 1)]
+    pub batch: usize,
     /// Solve every configuration cold (the baseline).
     #[arg(long, conflicts_with = "compare_cold")]
     pub cold: bool,
@@ -154,6 +159,8 @@ pub struct Totals {
     pub iterations: usize,
     pub cold_iterations: Option<usize>,
     pub wall_s: f64,
+    /// Configurations solved together (`--batch`).
+    pub batch: usize,
     /// Bytes of the converged states kept per chain (f32).
     pub state_bytes: Vec<usize>,
     /// Statistics of every quantity over the configurations.
@@ -235,7 +242,10 @@ fn setup(args: &StudyArgs, ranks: usize) -> anyhow::Result<Setup> {
             }
         }
     }
-    let count = args.chains.unwrap_or(ranks);
+    if args.batch == 0 {
+        anyhow::bail!("--batch: must be at least 1");
+    }
+    let count = args.chains.unwrap_or(ranks * args.batch);
     if count == 0 {
         anyhow::bail!("--chains: must be at least 1");
     }
@@ -442,6 +452,7 @@ pub fn study(args: &StudyArgs) -> anyhow::Result<ExitCode> {
         cold: args.cold,
         compare_cold: args.compare_cold,
         predictor,
+        batch: args.batch,
     };
     let resumed_state = |i: usize| match states.as_ref()?.load(&state_name(i), None, &problem) {
         Ok(state) => Some(state),
@@ -500,6 +511,7 @@ pub fn study(args: &StudyArgs) -> anyhow::Result<ExitCode> {
             .map(|o| o.cold_iterations)
             .sum::<Option<usize>>(),
         wall_s: start.elapsed().as_secs_f64(),
+        batch: args.batch,
         state_bytes,
         statistics: stats::statistics(outcomes),
         regression: design

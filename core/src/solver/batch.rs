@@ -1,0 +1,186 @@
+//! Configurations of one problem solved together (METHOD §4, §8, §11). The parameters a study
+//! moves (friction, gaps, initial velocities, load amplitudes and times, preloads) enter the
+//! interface laws, the initial states and the loads, never the substructure operators S, so
+//! every configuration can use the same factorizations. A [`Lane`] is one configuration's
+//! solver ([`Solver::lane`]: its own problem, settings, buffers and solve in progress, the
+//! factorizations shared); [`step_together`] runs one LATIN iteration of several lanes: each
+//! lane's local stage, then one linear stage for all of them in which every substructure solves
+//! the right-hand sides of all lanes at one step in one pass through its factor (the triangular
+//! solves are bound by reading the factor from memory, so B columns cost far less than B
+//! solves), then each lane's indicator, relaxation and end of window. A lane that converged
+//! leaves the batch; another configuration may take its place at once (lanes need not be at
+//! the same window or iteration).
+//!
+//! Each lane reaches the iterates it would reach alone up to the rounding of the blocked solve
+//! (bit for bit when it marches alone). Lanes on the two-scale stage (METHOD §9), or whose
+//! factorizations are no longer shared (one changed its k or scheme), march each on its own in
+//! the same iteration.
+
+use std::sync::Arc;
+
+use super::linear::{BatchInput, LinearOutcome, Operators, SingleScale};
+use super::{make_works, Control, Iterate, LinearStage, SolveRun, Solver, TwoScale};
+use crate::counters::{Counters, Instant};
+use crate::error::{LopinError, Result};
+use crate::macro_scale::macro_problem::MacroProblem;
+use crate::state::TraceHistory;
+
+/// One configuration of a batch: its solver and its solve in progress.
+pub struct Lane<'a> {
+    /// The configuration's solver (made by [`Solver::lane`] from the batch's first).
+    pub solver: &'a mut Solver,
+    /// Its solve in progress ([`Solver::begin`]).
+    pub run: &'a mut SolveRun,
+}
+
+impl Solver {
+    /// A solver of another configuration of this problem that shares this solver's
+    /// factorizations: the problem and its parameters as they are now (set it with
+    /// [`Self::set_parameter_in`]), the settings, fresh buffers and counters. Only on one
+    /// machine (a distributed solver's lanes would need ranks of their own).
+    pub fn lane(&self) -> Result<Solver> {
+        if !self.distribution.is_single() {
+            return Err(LopinError::setting(
+                "batch",
+                "configurations solved together share one machine's factorizations: a \
+                 distributed run solves them one at a time",
+            ));
+        }
+        let works = make_works(
+            &self.problem,
+            &self.classes,
+            &self.factors,
+            &self.distribution,
+        );
+        let linear = match &self.linear {
+            LinearStage::SingleScale(_) => LinearStage::SingleScale(SingleScale::new(works)),
+            LinearStage::TwoScale(_) => {
+                let mp = MacroProblem::new(
+                    &self.problem,
+                    self.settings.k,
+                    &self.classes,
+                    &self.factors,
+                    &self.distribution,
+                )?;
+                LinearStage::TwoScale(Box::new(TwoScale::new(works, mp)))
+            }
+        };
+        Ok(Solver {
+            problem: self.problem.clone(),
+            settings: self.settings,
+            classes: self.classes.clone(),
+            factors: Arc::clone(&self.factors),
+            distribution: self.distribution.clone(),
+            linear,
+            spare_macro: None,
+            counters: Counters::default(),
+            preload: self.preload,
+        })
+    }
+
+    /// Whether `other` uses the same factorizations (a lane of this solver that has not
+    /// refactorized since).
+    pub fn shares_factors(&self, other: &Solver) -> bool {
+        Arc::ptr_eq(&self.factors, &other.factors)
+    }
+}
+
+/// One LATIN iteration of every lane whose solve has not ended, the linear stages of the
+/// single-scale lanes that share the first such lane's factorizations marched together
+/// (module doc). `observer(l, iterate)` sees lane `l`'s iterate as [`Solver::step`] shows it.
+/// Returns, per lane, whether its solve has ended.
+pub fn step_together(
+    lanes: &mut [Lane<'_>],
+    observer: &mut dyn FnMut(usize, &Iterate<'_>) -> Control,
+) -> Vec<bool> {
+    let begun: Vec<_> = lanes
+        .iter_mut()
+        .map(|l| l.solver.iteration_local(l.run))
+        .collect();
+    let t_linear = Instant::now();
+    // the lanes that march together: single-scale, on the factors of the first of them
+    let mut together = vec![false; lanes.len()];
+    let mut first: Option<usize> = None;
+    for (l, lane) in lanes.iter().enumerate() {
+        if begun[l].is_none() || !matches!(lane.solver.linear, LinearStage::SingleScale(_)) {
+            continue;
+        }
+        match first {
+            None => {
+                first = Some(l);
+                together[l] = true;
+            }
+            Some(f) => together[l] = lanes[f].solver.shares_factors(lane.solver),
+        }
+    }
+    let mut outcomes: Vec<Option<LinearOutcome>> = vec![None; lanes.len()];
+    {
+        let mut stages: Vec<&mut SingleScale> = Vec::new();
+        let mut inputs: Vec<BatchInput<'_>> = Vec::new();
+        let mut outs: Vec<&mut [TraceHistory]> = Vec::new();
+        let mut runs = Vec::new();
+        for (l, lane) in lanes.iter_mut().enumerate() {
+            if !together[l] {
+                continue;
+            }
+            let Solver {
+                problem,
+                settings,
+                classes,
+                factors,
+                distribution,
+                linear,
+                ..
+            } = &mut *lane.solver;
+            let ops = Operators {
+                subs: &problem.subs,
+                classes,
+                factors,
+                distribution,
+            };
+            let (input, out) = lane.run.batch_parts(problem, ops, settings);
+            let Some(stage) = linear.single_scale_mut() else {
+                continue;
+            };
+            stages.push(stage);
+            inputs.push(input);
+            outs.push(out);
+            runs.push(l);
+        }
+        let results = SingleScale::run_batched(&mut stages, &inputs, &mut outs);
+        for (&l, outcome) in runs.iter().zip(results) {
+            outcomes[l] = Some(outcome);
+        }
+    }
+    lanes
+        .iter_mut()
+        .enumerate()
+        .map(|(l, lane)| {
+            let Some(b) = begun[l] else {
+                return true;
+            };
+            let solver = &mut *lane.solver;
+            let outcome = match outcomes[l] {
+                Some(o) => {
+                    lane.run.set_window_sums(o.sums);
+                    o
+                }
+                None => {
+                    let ops = Operators {
+                        subs: &solver.problem.subs,
+                        classes: &solver.classes,
+                        factors: &solver.factors,
+                        distribution: &solver.distribution,
+                    };
+                    lane.run.linear_stage(
+                        &solver.problem,
+                        &mut solver.linear,
+                        ops,
+                        &solver.settings,
+                    )
+                }
+            };
+            solver.iteration_end(lane.run, b, outcome, t_linear, &mut |it| observer(l, it))
+        })
+        .collect()
+}

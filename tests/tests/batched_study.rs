@@ -1,0 +1,329 @@
+//! Configurations solved together on one factorization (`core/src/solver/batch.rs`,
+//! `core/src/study/batched.rs`): lanes of `two-blocks` at different friction coefficients and
+//! gaps, advanced one iteration at a time with every linear stage solving all lanes'
+//! right-hand sides in one pass through each factor, reach what each reaches alone (bit for bit
+//! for a lone lane; the same iteration counts and the same interface fields to rounding for
+//! several, on one-step windows and over the whole interval with its skip cache, warm and
+//! cold); a lane on the two-scale stage marches on its own in the same iteration; a study in
+//! batches gives each configuration the iterations (within one) and quantities (to 1e-9) of the
+//! same chains solved one at a time. The end energies a single-scale solve keeps
+//! (`core/src/solver/end_energy.rs`) are those of a replay, bit for bit.
+
+use lopin_core::post;
+use lopin_core::scene;
+use lopin_core::solver::batch::{step_together, Lane};
+use lopin_core::solver::{Control, Solution};
+use lopin_core::study::runner::{self, Outcome, RunOptions};
+use lopin_core::study::{Chains, Design, Path, Predictor, Spread, Target};
+use lopin_core::{Parameter, Settings, Solver};
+
+/// `two-blocks` with its settings at tolerance `tol` on windows of `window` steps (over the
+/// whole interval with the dissipative scheme ρ∞ = 0.5, which converges there in fewer
+/// iterations).
+fn opened(tol: f64, window: Option<usize>) -> (lopin_core::Problem, Settings) {
+    let spec = scene::load("two-blocks").expect("scene");
+    let problem = scene::problem_of(&spec, "two-blocks").expect("builds");
+    let mut settings = Settings::for_problem(&problem, &spec.solver);
+    settings.tol = tol;
+    settings.window = window;
+    if window.is_none() {
+        settings.rho_inf = 0.5;
+    }
+    (problem, settings)
+}
+
+/// Largest difference between two interface states, relative to the largest value of each
+/// field (F and W apart).
+fn state_difference(a: &Solution, b: &Solution) -> f64 {
+    let mut worst: f64 = 0.0;
+    for (x, y) in a.state.subs.iter().zip(&b.state.subs) {
+        for (p, q) in [(&x.f, &y.f), (&x.w, &y.w)] {
+            let scale = q.iter().fold(f64::MIN_POSITIVE, |m, v| m.max(v.abs()));
+            let d = p
+                .iter()
+                .zip(q)
+                .fold(0.0f64, |m, (u, v)| m.max((u - v).abs()));
+            worst = worst.max(d / scale);
+        }
+    }
+    worst
+}
+
+/// Solves `frictions` in lanes of one solver, from `starts` (None: cold), all together.
+fn together(
+    base: &Solver,
+    frictions: &[f64],
+    starts: &[Option<&lopin_core::state::InterfaceState>],
+) -> Vec<Solution> {
+    let mut solvers: Vec<Solver> = frictions
+        .iter()
+        .map(|&f| {
+            let mut s = base.lane().expect("lane");
+            s.set_parameter(Parameter::Friction, f).expect("friction");
+            assert!(s.shares_factors(base));
+            s
+        })
+        .collect();
+    let mut runs: Vec<_> = solvers
+        .iter_mut()
+        .zip(starts)
+        .map(|(s, start)| s.begin(*start).expect("begin"))
+        .collect();
+    let mut ended = vec![false; frictions.len()];
+    while ended.iter().any(|e| !e) {
+        let mut lanes: Vec<Lane<'_>> = solvers
+            .iter_mut()
+            .zip(runs.iter_mut())
+            .map(|(solver, run)| Lane { solver, run })
+            .collect();
+        ended = step_together(&mut lanes, &mut |_, _| Control::Continue);
+    }
+    solvers
+        .iter()
+        .zip(runs)
+        .map(|(s, run)| s.conclude(run).expect("solution"))
+        .collect()
+}
+
+/// Each friction coefficient solved alone on a solver of its own, from `starts`.
+fn alone(
+    problem: &lopin_core::Problem,
+    settings: Settings,
+    frictions: &[f64],
+    starts: &[Option<&lopin_core::state::InterfaceState>],
+) -> Vec<Solution> {
+    frictions
+        .iter()
+        .zip(starts)
+        .map(|(&f, start)| {
+            let mut s = Solver::new(problem.clone(), settings).expect("solver");
+            s.set_parameter(Parameter::Friction, f).expect("friction");
+            s.solve(*start).expect("solve")
+        })
+        .collect()
+}
+
+/// One lane marching alone in a batch is the solve of [`Solver::solve`] bit for bit; three
+/// lanes at f = 0, 0.3 and 0.6 reach the iterates of three separate solves to rounding, with
+/// the same iteration counts, cold and then warm (each from another's converged state), on
+/// one-step windows and over the whole interval (where the skip cache replays unchanged
+/// substructures). The end energies a solve keeps are its replay's: bit for bit alone, to
+/// rounding in a lane.
+#[test]
+fn lanes_reach_what_each_configuration_reaches_alone() {
+    for window in [Some(1), None] {
+        let (problem, settings) = opened(1e-5, window);
+        let base = Solver::new(problem.clone(), settings).expect("solver");
+        let lone = together(&base, &[0.3], &[None]);
+        let single = alone(&problem, settings, &[0.3], &[None]);
+        assert_eq!(lone[0].iterations, single[0].iterations);
+        assert_eq!(lone[0].state, single[0].state, "window {window:?}");
+        assert_eq!(lone[0].hats, single[0].hats);
+        // a solve alone keeps the end energies of its replay bit for bit (trapezoidal rule)
+        if window.is_some() {
+            let mut s = base.lane().expect("lane");
+            s.set_parameter(Parameter::Friction, 0.3).expect("friction");
+            let e = post::energy(&s, &single[0]);
+            let n = e.kinetic.len() - 1;
+            let end = single[0].end.expect("end energies");
+            assert_eq!(
+                (end.kinetic, end.strain, end.input_work),
+                (e.kinetic[n], e.strain[n], e.input_work[n])
+            );
+        }
+
+        let frictions = [0.0, 0.3, 0.6];
+        let cold = together(&base, &frictions, &[None, None, None]);
+        let reference = alone(&problem, settings, &frictions, &[None, None, None]);
+        for (a, b) in cold.iter().zip(&reference) {
+            assert!(a.converged && b.converged);
+            assert_eq!(a.iterations, b.iterations, "window {window:?}");
+            let d = state_difference(a, b);
+            assert!(d < 1e-10, "window {window:?}: cold lanes differ by {d:e}");
+        }
+        // warm: each starts from the converged state of the next friction coefficient
+        let starts = [
+            Some(&reference[1].state),
+            Some(&reference[2].state),
+            Some(&reference[0].state),
+        ];
+        let warm = together(&base, &frictions, &starts);
+        let warm_reference = alone(&problem, settings, &frictions, &starts);
+        for (a, b) in warm.iter().zip(&warm_reference) {
+            assert!(a.converged);
+            assert_eq!(a.iterations, b.iterations, "window {window:?}");
+            let d = state_difference(a, b);
+            assert!(d < 1e-10, "window {window:?}: warm lanes differ by {d:e}");
+        }
+        // the lanes' end energies are those of their own replays (trapezoidal rule; the
+        // dissipative scheme's need a replay)
+        for (sol, &f) in warm.iter().zip(&frictions) {
+            if window.is_none() {
+                assert!(sol.end.is_none(), "ρ∞ = 0.5 keeps no end energies");
+                continue;
+            }
+            let mut s = base.lane().expect("lane");
+            s.set_parameter(Parameter::Friction, f).expect("friction");
+            let e = post::energy(&s, sol);
+            let end = sol
+                .end
+                .expect("a single-scale solve keeps its end energies");
+            let n = e.kinetic.len() - 1;
+            let rel = |x: f64, y: f64| (x - y).abs() / y.abs().max(1e-30);
+            assert!(rel(end.kinetic, e.kinetic[n]) < 1e-12);
+            assert!(rel(end.strain, e.strain[n]) < 1e-12);
+            assert!(rel(end.input_work, e.input_work[n]) < 1e-12);
+        }
+    }
+}
+
+/// A lane on the two-scale stage (METHOD §9) marches its own linear stage in the same iteration
+/// as the single-scale lanes beside it: each reaches its own solve's iterates.
+#[test]
+fn a_two_scale_lane_marches_on_its_own_beside_the_batch() {
+    let (problem, settings) = opened(1e-6, Some(1));
+    let base = Solver::new(problem.clone(), settings).expect("solver");
+    let mut two = base.lane().expect("lane");
+    two.set_settings(Settings {
+        two_scale: true,
+        ..settings
+    })
+    .expect("two-scale");
+    // the two-scale switch keeps the factorizations: the lane still shares them
+    assert!(two.shares_factors(&base));
+    let mut one = base.lane().expect("lane");
+    one.set_parameter(Parameter::Friction, 0.1)
+        .expect("friction");
+    let mut runs = [
+        two.begin(None).expect("begin"),
+        one.begin(None).expect("begin"),
+    ];
+    let mut ended = vec![false, false];
+    while ended.iter().any(|e| !e) {
+        let [r0, r1] = &mut runs;
+        let mut lanes = [
+            Lane {
+                solver: &mut two,
+                run: r0,
+            },
+            Lane {
+                solver: &mut one,
+                run: r1,
+            },
+        ];
+        ended = step_together(&mut lanes, &mut |_, _| Control::Continue);
+    }
+    let [r0, r1] = runs;
+    let (sol_two, sol_one) = (
+        two.conclude(r0).expect("two"),
+        one.conclude(r1).expect("one"),
+    );
+    let mut alone_two = Solver::new(
+        problem.clone(),
+        Settings {
+            two_scale: true,
+            ..settings
+        },
+    )
+    .expect("solver");
+    let ref_two = alone_two.solve(None).expect("solve");
+    assert_eq!(sol_two.iterations, ref_two.iterations);
+    assert_eq!(
+        sol_two.state, ref_two.state,
+        "the two-scale lane marched alone"
+    );
+    // a two-scale solve keeps no end energies (its fields carry the macro correction)
+    assert!(sol_two.end.is_none());
+    let ref_one = alone(&problem, settings, &[0.1], &[None]);
+    assert_eq!(sol_one.iterations, ref_one[0].iterations);
+    assert_eq!(
+        sol_one.state, ref_one[0].state,
+        "the single-scale lane marched alone"
+    );
+}
+
+/// A study of `design` cut into `chains`, solved `batch` at a time.
+fn study(
+    problem: &lopin_core::Problem,
+    settings: Settings,
+    design: &Design,
+    chains: usize,
+    batch: usize,
+) -> Vec<Outcome> {
+    let path = Path::greedy(&design.points);
+    runner::run_gathered(
+        &|| Solver::new(problem.clone(), settings),
+        design,
+        &Chains::split(&path, chains),
+        RunOptions {
+            cold: false,
+            compare_cold: false,
+            predictor: Predictor::Nearest,
+            batch,
+        },
+    )
+    .expect("study")
+}
+
+/// The 6 × 2 grid of friction × gap on `two-blocks` (η < 1e-4) cut into three chains: solved
+/// three at a time in lanes, every configuration takes the iterations of the same chains
+/// solved one at a time on threads (within one), from the same start, with the same quantities
+/// of interest to 1e-9; on one-step windows and over the whole interval. Four lanes on three
+/// chains leave one idle; of two lanes, the first done takes the third chain.
+#[test]
+fn a_study_in_batches_matches_its_chains_solved_one_at_a_time() {
+    for window in [Some(1), None] {
+        let (problem, settings) = opened(1e-4, window);
+        let design = Design::grid(vec![
+            (
+                Target::parse("f", &problem).expect("f"),
+                Spread::parse("0:0.5:0.1").expect("f values"),
+            ),
+            (
+                Target::parse("gap", &problem).expect("gap"),
+                Spread::parse("0,4e-6").expect("gap values"),
+            ),
+        ])
+        .expect("grid");
+        let one = study(&problem, settings, &design, 3, 1);
+        for batch in [4, 2] {
+            let together = study(&problem, settings, &design, 3, batch);
+            assert_eq!(together.len(), 12, "batch {batch}");
+            for (a, b) in together.iter().zip(&one) {
+                assert_eq!(a.index, b.index);
+                assert_eq!(
+                    (a.chain, a.position, a.start),
+                    (b.chain, b.position, b.start)
+                );
+                assert!(a.converged);
+                assert!(
+                    a.iterations.abs_diff(b.iterations) <= 1,
+                    "window {window:?}, batch {batch}, configuration {}: {} iterations \
+                     against {}",
+                    a.index,
+                    a.iterations,
+                    b.iterations
+                );
+                for (k, (x, y)) in a
+                    .quantities
+                    .values()
+                    .iter()
+                    .zip(b.quantities.values())
+                    .enumerate()
+                {
+                    let scale = y.abs().max(match k {
+                        1 => 1e-5,
+                        4 => 1e-2,
+                        _ => 1e-30,
+                    });
+                    assert!(
+                        (x - y).abs() <= 1e-9 * scale,
+                        "window {window:?}, batch {batch}, configuration {}: quantity {k}: \
+                         {x:e} against {y:e}",
+                        a.index
+                    );
+                }
+            }
+        }
+    }
+}
