@@ -61,7 +61,9 @@ pub struct Settings {
     #[serde(default = "undamped", skip_serializing_if = "is_undamped")]
     pub rho_inf: f64,
     /// The precision the factors of S keep ([`FactorPrecision`]). Changing it refactorizes.
-    #[serde(default)]
+    /// Left out of records when double (the default), so records and fingerprints of runs that
+    /// never asked read as before.
+    #[serde(default, skip_serializing_if = "FactorPrecision::is_double")]
     pub factors: FactorPrecision,
 }
 

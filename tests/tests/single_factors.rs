@@ -59,7 +59,8 @@ fn single_precision_factors_halve_the_memory_and_keep_a_few_parts_in_a_million()
     );
 }
 
-/// Changing the precision refactorizes; a lane made afterwards shares the new factors.
+/// Changing the precision refactorizes; a lane made afterwards shares the new factors; records
+/// name the precision only when it is single.
 #[test]
 fn the_precision_is_a_setting_that_refactorizes() {
     let spec = scene::load("two-blocks").expect("scene");
@@ -82,6 +83,14 @@ fn the_precision_is_a_setting_that_refactorizes() {
         FactorPrecision::parse("single").expect("parses"),
         FactorPrecision::Single
     );
+    // records (and the fingerprints hashed from them) name the precision only when it is not
+    // the default, so runs that never asked read as before
+    let double = serde_json::to_string(&settings).expect("json");
+    assert!(!double.contains("factors"), "{double}");
+    let single = serde_json::to_string(solver.settings()).expect("json");
+    assert!(single.contains(r#""factors":"single""#), "{single}");
+    let back: lopin_core::Settings = serde_json::from_str(&double).expect("reads back");
+    assert_eq!(back.factors, FactorPrecision::Double);
     let err = FactorPrecision::parse("half").expect_err("refused");
     assert!(err.to_string().contains("factors"), "{err}");
 }

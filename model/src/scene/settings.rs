@@ -98,6 +98,11 @@ impl FactorPrecision {
         Self::parse(name).map_err(|e| e.to_string())
     }
 
+    /// Whether it is double precision (the default).
+    pub fn is_double(&self) -> bool {
+        *self == Self::Double
+    }
+
     /// Name.
     pub fn name(&self) -> &'static str {
         match self {
