@@ -103,7 +103,7 @@ impl Estimate {
         let p = solver.problem();
         let mut e = Self::of(p, solver.settings());
         e.factorizations = Some(solver.factors().len());
-        e.factor_bytes = Some(solver.factors().iter().map(|f| f.bytes()).sum());
+        e.factor_bytes = Some(solver.factor_bytes());
         e.macro_bytes = solver.macro_problem().map(|mp| {
             mp.homogenized
                 .iter()

@@ -295,16 +295,7 @@ pub fn energy(solver: &Solver, sol: &Solution) -> EnergyHistory {
             return std::array::from_fn(|_| vec![-0.0; n + 1]);
         }
         let sub = &p.subs[i];
-        // boundary trace ranges of this substructure
-        let ranges: Vec<std::ops::Range<usize>> = sub
-            .sides
-            .iter()
-            .filter(|s| p.interfaces[s.interface].is_boundary())
-            .map(|&SideRef { interface: k, side }| {
-                let off = p.interfaces[k].sides[side].offset;
-                off..off + p.interfaces[k].len
-            })
-            .collect();
+        let ranges = boundary_ranges(p, sub);
         let mut kin = vec![0.0; n + 1];
         let mut strain = vec![0.0; n + 1];
         let mut work = vec![0.0; n + 1];
@@ -316,27 +307,18 @@ pub fn energy(solver: &Solver, sol: &Solution) -> EnergyHistory {
             if let Some(d) = viscous.as_mut() {
                 d.step(m, st, dt, (trapezoidal, gamma));
             }
-            kin[m] = 0.5
-                * st.v
-                    .iter()
-                    .zip(&sub.mass)
-                    .map(|(v, mm)| mm * v * v)
-                    .sum::<f64>();
-            strain[m] = 0.5 * sub.stiffness.quadratic_form(&st.u);
+            kin[m] = kinetic_energy(sub, &st.v);
+            strain[m] = strain_energy(sub, &st.u);
             if m > 0 {
-                let mut dw = 0.0;
-                for r in &ranges {
-                    for j in r.clone() {
-                        // u_m − u_{m−1} of the trace dof: Δt/2 (W_m + W_{m−1}) for the
-                        // trapezoidal rule, the Newmark update otherwise
-                        let du = if trapezoidal {
-                            0.5 * dt * (w[j] + prev_w[j])
-                        } else {
-                            st.u[sub.trace_dofs[j]] - prev_u[j]
-                        };
-                        dw += sub.trace_area[j] * (gamma * f[j] + (1.0 - gamma) * prev_f[j]) * du;
+                // u_m − u_{m−1} of the trace dof: Δt/2 (W_m + W_{m−1}) for the trapezoidal
+                // rule, the Newmark update otherwise
+                let dw = boundary_work(sub, &ranges, gamma, (f, &prev_f), |j| {
+                    if trapezoidal {
+                        0.5 * dt * (w[j] + prev_w[j])
+                    } else {
+                        st.u[sub.trace_dofs[j]] - prev_u[j]
                     }
-                }
+                });
                 work[m] = work[m - 1] + dw;
             }
             prev_f.copy_from_slice(f);
@@ -376,6 +358,53 @@ pub fn energy(solver: &Solver, sol: &Solution) -> EnergyHistory {
     }
     solver.counters().add_post(t.elapsed().as_secs_f64());
     e
+}
+
+/// ½ vᵀ M v of a substructure (lumped M).
+pub(crate) fn kinetic_energy(sub: &Substructure, v: &[f64]) -> f64 {
+    0.5 * v
+        .iter()
+        .zip(&sub.mass)
+        .map(|(v, mm)| mm * v * v)
+        .sum::<f64>()
+}
+
+/// ½ uᵀ K u of a substructure.
+pub(crate) fn strain_energy(sub: &Substructure, u: &[f64]) -> f64 {
+    0.5 * sub.stiffness.quadratic_form(u)
+}
+
+/// The trace ranges of a substructure's sides on boundary interfaces (whose work is the input).
+pub(crate) fn boundary_ranges(
+    p: &crate::Problem,
+    sub: &Substructure,
+) -> Vec<std::ops::Range<usize>> {
+    sub.sides
+        .iter()
+        .filter(|s| p.interfaces[s.interface].is_boundary())
+        .map(|&SideRef { interface: k, side }| {
+            let off = p.interfaces[k].sides[side].offset;
+            off..off + p.interfaces[k].len
+        })
+        .collect()
+}
+
+/// The work of the boundary tractions over one step (METHOD §2):
+/// Σ_j A_j (γ F_m + (1 − γ) F_{m−1}) Δu_j over the trace entries of `ranges`, Δu_j from `du`.
+pub(crate) fn boundary_work(
+    sub: &Substructure,
+    ranges: &[std::ops::Range<usize>],
+    gamma: f64,
+    (f, prev_f): (&[f64], &[f64]),
+    du: impl Fn(usize) -> f64,
+) -> f64 {
+    let mut dw = 0.0;
+    for r in ranges {
+        for j in r.clone() {
+            dw += sub.trace_area[j] * (gamma * f[j] + (1.0 - gamma) * prev_f[j]) * du(j);
+        }
+    }
+    dw
 }
 
 /// Contact histories of every contact interface, from a solution that holds ŝ of all of them

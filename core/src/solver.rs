@@ -124,13 +124,13 @@ impl Solver {
             (settings.k, settings.factors),
             &distribution,
         )?);
-        let works = make_works(&problem, &classes, &factors, &distribution);
-        let linear = if settings.two_scale {
-            let mp = MacroProblem::new(&problem, settings.k, &classes, &factors, &distribution)?;
-            LinearStage::TwoScale(Box::new(TwoScale::new(works, mp)))
-        } else {
-            LinearStage::SingleScale(SingleScale::new(works))
-        };
+        let linear = new_linear_stage(
+            &problem,
+            &classes,
+            &factors,
+            &distribution,
+            settings.two_scale.then_some(settings.k),
+        )?;
         let mut counters = Counters::default();
         counters.setup_s = start.elapsed().as_secs_f64();
         Ok(Self {
@@ -253,13 +253,13 @@ impl Solver {
             (k, precision),
             &self.distribution,
         )?);
-        let works = make_works(
+        self.linear = new_linear_stage(
             &self.problem,
             &self.classes,
             &self.factors,
             &self.distribution,
-        );
-        self.linear = LinearStage::SingleScale(SingleScale::new(works));
+            None,
+        )?;
         self.spare_macro = None;
         self.settings.two_scale = false;
         Ok(())
@@ -327,6 +327,16 @@ impl Solver {
     /// substructures with a substructure here; every class on one machine).
     pub fn factors(&self) -> Vec<&CholeskyFactor> {
         self.factors.iter().flatten().collect()
+    }
+
+    /// Bytes of the factorizations held on this rank (values and structure,
+    /// [`CholeskyFactor::bytes`]).
+    pub fn factor_bytes(&self) -> usize {
+        self.factors
+            .iter()
+            .flatten()
+            .map(CholeskyFactor::bytes)
+            .sum()
     }
 
     /// The factorizations held on this rank with their class index.
@@ -438,6 +448,25 @@ fn factorize(
     })
     .into_iter()
     .collect()
+}
+
+/// A linear stage with fresh buffers on these factorizations: two-scale with the macro problem
+/// of search direction k where `macro_k` gives it (METHOD §9), else single-scale (METHOD §4).
+fn new_linear_stage(
+    problem: &Problem,
+    classes: &Classes,
+    factors: &[Option<CholeskyFactor>],
+    distribution: &Distribution,
+    macro_k: Option<f64>,
+) -> Result<LinearStage> {
+    let works = make_works(problem, classes, factors, distribution);
+    Ok(match macro_k {
+        Some(k) => {
+            let mp = MacroProblem::new(problem, k, classes, factors, distribution)?;
+            LinearStage::TwoScale(Box::new(TwoScale::new(works, mp)))
+        }
+        None => LinearStage::SingleScale(SingleScale::new(works)),
+    })
 }
 
 /// Scratch buffers of every substructure's linear stage (none for those on other ranks).

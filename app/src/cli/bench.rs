@@ -5,6 +5,7 @@
 
 use std::process::ExitCode;
 
+use anyhow::Context;
 use clap::Args;
 use lopin_core::counters::Instant;
 use lopin_core::scene::spec::SolverSpec;
@@ -146,4 +147,18 @@ fn triangular_solves(solver: &lopin_core::Solver) -> f64 {
         .collect();
     times.sort_by(f64::total_cmp);
     times[2]
+}
+
+/// Prints a benchmark's table and writes its rows as JSON to `json` if given.
+pub(super) fn print_table(
+    table: &comfy_table::Table,
+    rows: &impl serde::Serialize,
+    json: Option<&std::path::Path>,
+) -> anyhow::Result<()> {
+    println!("{}", table.trim_fmt());
+    if let Some(path) = json {
+        std::fs::write(path, serde_json::to_string_pretty(rows)?)
+            .with_context(|| format!("{}: writing", path.display()))?;
+    }
+    Ok(())
 }

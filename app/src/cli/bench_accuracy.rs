@@ -11,7 +11,6 @@
 //! so a row's time is that of one solve stopped there. Printed as one table, written as JSON
 //! with `--json`.
 
-use anyhow::Context;
 use lopin_core::counters::Instant;
 use lopin_core::scene::spec::SolverSpec;
 use lopin_core::window_choice::{Task, WindowRequest};
@@ -121,8 +120,8 @@ fn velocity_error(v: &[Vec<Vec<f64>>], reference: &[Vec<Vec<f64>>]) -> f64 {
     diff / scale.max(f64::MIN_POSITIVE)
 }
 
-/// The problem of `case` and its settings under `spec` for one cold solve.
-fn settings_of(scene: &str, refine: usize, spec: SolverSpec) -> anyhow::Result<Solver> {
+/// The solver of `scene` at `refine` under the settings layer `spec`, for one cold solve.
+fn solver_of(scene: &str, refine: usize, spec: SolverSpec) -> anyhow::Result<Solver> {
     let built = build(&SceneArgs {
         scene: scene.to_string(),
         friction: None,
@@ -187,12 +186,7 @@ pub fn bench_accuracy(only: &[String], json: Option<&std::path::Path>) -> anyhow
             rows.push(row);
         }
     }
-    println!("{}", table.trim_fmt());
-    if let Some(path) = json {
-        std::fs::write(path, serde_json::to_string_pretty(&rows)?)
-            .with_context(|| format!("{}: writing", path.display()))?;
-    }
-    Ok(())
+    super::bench::print_table(&table, &rows, json)
 }
 
 /// One row: the converged solution, then the tolerances in turn.
@@ -202,7 +196,7 @@ fn measure(scene: &str, refine: usize, setting: Setting) -> anyhow::Result<Accur
         rho_inf: setting.rho_inf,
         ..SolverSpec::default()
     };
-    let mut converged = settings_of(scene, refine, converged_spec)?;
+    let mut converged = solver_of(scene, refine, converged_spec)?;
     let mut found = None;
     for tol in CONVERGED {
         converged.set_settings(Settings {
@@ -228,7 +222,7 @@ fn measure(scene: &str, refine: usize, setting: Setting) -> anyhow::Result<Accur
         ..SolverSpec::default()
     };
     let (wall0, cpu0) = (Instant::now(), cpu_seconds());
-    let mut solver = settings_of(scene, refine, spec.clone())?;
+    let mut solver = solver_of(scene, refine, spec.clone())?;
     let setup = (
         wall0.elapsed().as_secs_f64(),
         cpu_seconds().zip(cpu0).map(|(a, b)| a - b),

@@ -145,12 +145,7 @@ pub fn bench_batches(
             }
         }
     }
-    println!("{}", table.trim_fmt());
-    if let Some(path) = json {
-        std::fs::write(path, serde_json::to_string_pretty(&rows)?)
-            .with_context(|| format!("{}: writing", path.display()))?;
-    }
-    Ok(())
+    super::bench::print_table(&table, &rows, json)
 }
 
 /// The outcomes (in configuration order) and the wall time of `design` cut into `chains` and

@@ -282,7 +282,7 @@ impl<'a> RunReport<'a> {
                 "{} distinct for {} substructures, {} in {} precision",
                 self.solver.factors().len(),
                 p.subs.len(),
-                lopin_core::estimate::bytes(self.solver.factors().iter().map(|f| f.bytes()).sum()),
+                lopin_core::estimate::bytes(self.solver.factor_bytes()),
                 set.factors.name()
             ),
         );

@@ -19,10 +19,9 @@
 use std::sync::Arc;
 
 use super::linear::{BatchInput, LinearOutcome, Operators, SingleScale};
-use super::{make_works, Control, Iterate, LinearStage, SolveRun, Solver, TwoScale};
+use super::{new_linear_stage, Control, Iterate, LinearStage, SolveRun, Solver};
 use crate::counters::{Counters, Instant};
 use crate::error::{LopinError, Result};
-use crate::macro_scale::macro_problem::MacroProblem;
 use crate::state::TraceHistory;
 
 /// One configuration of a batch: its solver and its solve in progress.
@@ -46,25 +45,14 @@ impl Solver {
                  distributed run solves them one at a time",
             ));
         }
-        let works = make_works(
+        let two_scale = matches!(self.linear, LinearStage::TwoScale(_));
+        let linear = new_linear_stage(
             &self.problem,
             &self.classes,
             &self.factors,
             &self.distribution,
-        );
-        let linear = match &self.linear {
-            LinearStage::SingleScale(_) => LinearStage::SingleScale(SingleScale::new(works)),
-            LinearStage::TwoScale(_) => {
-                let mp = MacroProblem::new(
-                    &self.problem,
-                    self.settings.k,
-                    &self.classes,
-                    &self.factors,
-                    &self.distribution,
-                )?;
-                LinearStage::TwoScale(Box::new(TwoScale::new(works, mp)))
-            }
-        };
+            two_scale.then_some(self.settings.k),
+        )?;
         Ok(Solver {
             problem: self.problem.clone(),
             settings: self.settings,
@@ -165,20 +153,7 @@ pub fn step_together(
                     lane.run.set_window_sums(o.sums);
                     o
                 }
-                None => {
-                    let ops = Operators {
-                        subs: &solver.problem.subs,
-                        classes: &solver.classes,
-                        factors: &solver.factors,
-                        distribution: &solver.distribution,
-                    };
-                    lane.run.linear_stage(
-                        &solver.problem,
-                        &mut solver.linear,
-                        ops,
-                        &solver.settings,
-                    )
-                }
+                None => solver.iteration_linear(lane.run),
             };
             solver.iteration_end(lane.run, b, outcome, t_linear, &mut |it| observer(l, it))
         })

@@ -9,6 +9,7 @@
 //! replay gives.
 
 use crate::distributed::distribution::Distribution;
+use crate::post::{boundary_ranges, boundary_work, kinetic_energy, strain_energy};
 use crate::problem::Problem;
 use crate::stages::linear_stage::SubState;
 use crate::state::InterfaceState;
@@ -47,35 +48,22 @@ pub fn end_energy(
             continue;
         }
         let end = &ends[i];
-        let kinetic = 0.5
-            * end
-                .v
-                .iter()
-                .zip(&sub.mass)
-                .map(|(v, m)| m * v * v)
-                .sum::<f64>();
-        let strain = 0.5 * sub.stiffness.quadratic_form(&end.u);
         let h = &fields.subs[i];
+        let ranges = boundary_ranges(problem, sub);
         let mut work = 0.0;
         for m in 1..=n {
             let (now, before) = (h.at(m), h.at(m - 1));
             let (f, w) = (&h.f[now.clone()], &h.w[now]);
             let (prev_f, prev_w) = (&h.f[before.clone()], &h.w[before]);
-            let mut dw = 0.0;
-            for side in sub
-                .sides
-                .iter()
-                .filter(|s| problem.interfaces[s.interface].is_boundary())
-            {
-                let off = problem.interfaces[side.interface].sides[side.side].offset;
-                for j in off..off + problem.interfaces[side.interface].len {
-                    let du = 0.5 * dt * (w[j] + prev_w[j]);
-                    dw += sub.trace_area[j] * (gamma * f[j] + (1.0 - gamma) * prev_f[j]) * du;
-                }
-            }
-            work += dw;
+            work += boundary_work(sub, &ranges, gamma, (f, prev_f), |j| {
+                0.5 * dt * (w[j] + prev_w[j])
+            });
         }
-        per_sub.extend([kinetic, strain, work]);
+        per_sub.extend([
+            kinetic_energy(sub, &end.v),
+            strain_energy(sub, &end.u),
+            work,
+        ]);
     }
     if !distribution.is_single() {
         distribution.all_sum(&mut per_sub);

@@ -304,14 +304,19 @@ impl Solver {
             return true;
         };
         let t_linear = Instant::now();
+        let outcome = self.iteration_linear(run);
+        self.iteration_end(run, begun, outcome, t_linear, observer)
+    }
+
+    /// Stage 2 of one iteration of `run` on this solver's own linear stage.
+    pub(super) fn iteration_linear(&mut self, run: &mut SolveRun) -> LinearOutcome {
         let ops = Operators {
             subs: &self.problem.subs,
             classes: &self.classes,
             factors: &self.factors,
             distribution: &self.distribution,
         };
-        let outcome = run.linear_stage(&self.problem, &mut self.linear, ops, &self.settings);
-        self.iteration_end(run, begun, outcome, t_linear, observer)
+        run.linear_stage(&self.problem, &mut self.linear, ops, &self.settings)
     }
 
     /// The start of one iteration of `run`: stage 1 (None: the solve has ended).

@@ -13,7 +13,9 @@ use crate::error::Result;
 use crate::solver::batch::{step_together, Lane};
 use crate::solver::{Control, SolveRun, Solver};
 use crate::state::InterfaceState;
-use crate::study::runner::{Outcome, Resumed, RunOptions, Solved};
+use crate::study::runner::{
+    seeded_chain, set_configuration, start_of, Outcome, Resumed, RunOptions, Solved,
+};
 use crate::study::{path::scaled, Chain, Chains, Design, Start};
 
 /// A configuration in progress on a lane.
@@ -64,18 +66,10 @@ pub fn run(
                         let Some(c) = queue.next() else {
                             break;
                         };
-                        let mut kept = Chain::new(options.predictor);
-                        if !options.cold {
-                            for &i in chains.0[c].iter().filter(|&&i| done(i)) {
-                                if let Some(state) = (resumed.state)(i) {
-                                    kept.converged(i, &points[i], &state);
-                                }
-                            }
-                        }
                         slot.insert(LaneWork {
                             chain: c,
                             next: 0,
-                            kept,
+                            kept: seeded_chain(&chains.0[c], &points, options, resumed),
                             current: None,
                         })
                     }
@@ -189,15 +183,9 @@ fn begin(
     kept: &Chain,
     cold: bool,
 ) -> Result<(Start, SolveRun, Instant)> {
-    for (t, &x) in design.targets.iter().zip(&design.points[i]) {
-        solver.set_parameter_in(t.parameter, t.zone, x)?;
-    }
+    set_configuration(solver, design, i)?;
     let began = Instant::now();
-    let mut start = if cold {
-        Start::default()
-    } else {
-        kept.start(point, solver)
-    };
+    let mut start = start_of(kept, point, solver, cold);
     let run = solver.begin(start.state.as_ref())?;
     start.state = None;
     Ok((start, run, began))

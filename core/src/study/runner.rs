@@ -195,6 +195,43 @@ pub fn run_gathered(
     Ok(out)
 }
 
+/// The store of a chain about to be solved: empty, or (warm) seeded with the converged states
+/// the caller kept of the chain's finished configurations.
+pub(super) fn seeded_chain(
+    chain: &[usize],
+    points: &[Vec<f64>],
+    options: RunOptions,
+    resumed: Resumed<'_>,
+) -> Chain {
+    let mut kept = Chain::new(options.predictor);
+    if !options.cold {
+        for &i in chain.iter().filter(|&&i| (resumed.done)(i)) {
+            if let Some(state) = (resumed.state)(i) {
+                kept.converged(i, &points[i], &state);
+            }
+        }
+    }
+    kept
+}
+
+/// Sets configuration `i`'s parameters on `solver` through [`crate::Parameter`].
+pub(super) fn set_configuration(solver: &mut Solver, design: &Design, i: usize) -> Result<()> {
+    for (t, &x) in design.targets.iter().zip(&design.points[i]) {
+        solver.set_parameter_in(t.parameter, t.zone, x)?;
+    }
+    Ok(())
+}
+
+/// The start of the configuration at scaled point `point` from what `kept` converged to, or
+/// cold.
+pub(super) fn start_of(kept: &Chain, point: &[f64], solver: &Solver, cold: bool) -> Start {
+    if cold {
+        Start::default()
+    } else {
+        kept.start(point, solver)
+    }
+}
+
 #[allow(clippy::too_many_arguments)]
 fn run_chain(
     make_solver: &(dyn Fn() -> Result<Solver> + Sync),
@@ -212,14 +249,7 @@ fn run_chain(
         return Ok(0);
     }
     let mut solver = make_solver()?;
-    let mut kept = Chain::new(options.predictor);
-    if !options.cold {
-        for &i in chain.iter().filter(|&&i| done(i)) {
-            if let Some(state) = (resumed.state)(i) {
-                kept.converged(i, &points[i], &state);
-            }
-        }
-    }
+    let mut kept = seeded_chain(chain, points, options, resumed);
     let visit = Visit {
         design,
         points,
@@ -320,18 +350,10 @@ impl Visit<'_> {
                     })
                 }
             };
-            for (t, &x) in self.design.targets.iter().zip(&self.design.points[i]) {
-                solver
-                    .set_parameter_in(t.parameter, t.zone, x)
-                    .map_err(fail(true))?;
-            }
+            set_configuration(solver, self.design, i).map_err(fail(true))?;
             // the wall time includes the start's making (a projection's local stages)
             let t = Instant::now();
-            let mut start = if self.cold {
-                Start::default()
-            } else {
-                kept.start(&self.points[i], solver)
-            };
+            let mut start = start_of(kept, &self.points[i], solver, self.cold);
             let solution = solver
                 .solve_with(start.state.as_ref(), &mut |r| observer(i, r))
                 .map_err(fail(false))?;
