@@ -1,7 +1,8 @@
 //! `lopin` under `mpirun` (feature `mpi`): the same scene on 1, 2, 3 and 4 ranks
 //! (oversubscribed on a 2-core machine) takes the same iterations, reaches the same η (same
 //! bits) and writes the same solution file, byte for byte, as the run on one machine:
-//! `two-blocks --split 2`, `granular-small` single- and two-scale, and a 3-value friction sweep
+//! `two-blocks --split 2`, `granular-small` single- and two-scale, `two-blocks-nonmatching`
+//! (its non-matching contact across two ranks), and a 3-value friction sweep
 //! (its state files); a study's chains dealt to 2 and 3 ranks give the rows of the same chains
 //! on threads of one process; a run restarted from a checkpoint writes the solution of the
 //! uninterrupted run; bad input ends every rank with one message; a rank that dies ends the job
@@ -95,6 +96,28 @@ fn runs_equal_the_run_on_one_machine_on_one_to_four_ranks() {
             );
         }
     }
+}
+
+/// A non-matching contact whose two sides (A and B, one substructure each) sit on two ranks.
+#[test]
+fn a_non_matching_contact_across_two_ranks_equals_the_run_on_one_machine() {
+    let dir = scratch("nonmatching-one");
+    let one = dir.display().to_string();
+    let args = ["run", "two-blocks-nonmatching", "--json", "--out"];
+    let serial = json(&run(Command::new(LOPIN).args(args).arg(&one)));
+    let d = scratch("nonmatching-np2");
+    let out = d.display().to_string();
+    let dist = json(&run(mpirun(2, &args).arg(&out)));
+    assert_eq!(dist["iterations"], serial["iterations"]);
+    assert_eq!(dist["eta"], serial["eta"]);
+    assert!(
+        bytes(&d.join("solution.bin")) == bytes(&dir.join("solution.bin")),
+        "the solution file differs"
+    );
+    println!(
+        "two-blocks-nonmatching: 2 ranks, {} iterations, eta {}, solution file identical",
+        dist["iterations"], dist["eta"]
+    );
 }
 
 #[test]

@@ -316,7 +316,7 @@ pub fn energy(solver: &Solver, sol: &Solution) -> EnergyHistory {
                     if trapezoidal {
                         0.5 * dt * (w[j] + prev_w[j])
                     } else {
-                        st.u[sub.trace_dofs[j]] - prev_u[j]
+                        sub.trace_value(j, &st.u) - prev_u[j]
                     }
                 });
                 work[m] = work[m - 1] + dw;
@@ -324,8 +324,8 @@ pub fn energy(solver: &Solver, sol: &Solution) -> EnergyHistory {
             prev_f.copy_from_slice(f);
             prev_w.copy_from_slice(w);
             if !trapezoidal {
-                for (j, &d) in sub.trace_dofs.iter().enumerate() {
-                    prev_u[j] = st.u[d];
+                for (j, u) in prev_u.iter_mut().enumerate() {
+                    *u = sub.trace_value(j, &st.u);
                 }
             }
         });

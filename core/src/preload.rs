@@ -93,8 +93,20 @@ pub fn prestress(problem: &mut Problem, settings: &Settings) -> Result<PreloadRe
                 let trace = |side: usize, node: usize| -> Vec3 {
                     let s = &iface.sides[side];
                     let d = &subs[s.sub].displacement;
-                    let n = s.nodes[node];
-                    std::array::from_fn(|q| d[3 * n + q])
+                    match &s.projection {
+                        Some(p) => std::array::from_fn(|q| {
+                            let (nodes, weights) = p.row_slices(node);
+                            nodes
+                                .iter()
+                                .zip(weights)
+                                .map(|(&m, &w)| w * d[3 * m + q])
+                                .sum()
+                        }),
+                        None => {
+                            let n = s.nodes[node];
+                            std::array::from_fn(|q| d[3 * n + q])
+                        }
+                    }
                 };
                 Some(
                     (0..iface.node_count())

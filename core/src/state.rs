@@ -77,8 +77,8 @@ impl InterfaceState {
                     return TraceHistory::absent(s.trace_len());
                 }
                 let mut h = TraceHistory::zeros(s.trace_len(), steps);
-                for (j, &d) in s.trace_dofs.iter().enumerate() {
-                    h.w[j] = s.initial_velocity[d % 3];
+                for j in 0..s.trace_len() {
+                    h.w[j] = s.initial_velocity[s.trace_component(j)];
                 }
                 if let Some(p) = &s.prestress {
                     h.f[..s.trace_len()].copy_from_slice(&p.traction);

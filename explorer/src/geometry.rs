@@ -95,7 +95,25 @@ impl SceneGeometry {
             .enumerate()
         {
             for side in &iface.sides {
-                for (k, &n) in side.nodes.iter().enumerate() {
+                // the mortar side of a non-matching contact: each face node shows the
+                // interface node that weighs most on it
+                let nodes: Vec<(usize, usize)> = match &side.projection {
+                    Some(p) => {
+                        let mut best: std::collections::BTreeMap<usize, (f64, usize)> =
+                            Default::default();
+                        for k in 0..p.rows() {
+                            for (n, w) in p.row(k) {
+                                let e = best.entry(n).or_insert((f64::NEG_INFINITY, k));
+                                if w > e.0 {
+                                    *e = (w, k);
+                                }
+                            }
+                        }
+                        best.into_iter().map(|(n, (_, k))| (k, n)).collect()
+                    }
+                    None => side.nodes.iter().copied().enumerate().collect(),
+                };
+                for (k, n) in nodes {
                     let slot = &mut subs[side.sub].contact[n];
                     if slot.is_none() {
                         *slot = Some(ContactNode {

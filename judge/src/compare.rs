@@ -203,11 +203,18 @@ fn latin_sub_forces(solver: &Solver, sol: &Solution) -> Vec<Vec<Vec<f64>>> {
                 let r = h.at(m);
                 let f = &mut per_sub[side.sub];
                 for j in 0..iface.len {
-                    let dof = match &iface.law {
-                        Law::Boundary(d) => 3 * side.nodes[j] + d[j].component,
-                        _ => 3 * side.nodes[j / 3] + j % 3,
-                    };
-                    f[dof] += iface.area[j] * h.f[r.start + j];
+                    let force = iface.area[j] * h.f[r.start + j];
+                    match (&iface.law, &side.projection) {
+                        // the mortar side: Pᵀ A F̂
+                        (_, Some(p)) => {
+                            let (nodes, weights) = p.row_slices(j / 3);
+                            for (&n, &w) in nodes.iter().zip(weights) {
+                                f[3 * n + j % 3] += w * force;
+                            }
+                        }
+                        (Law::Boundary(d), None) => f[3 * side.nodes[j] + d[j].component] += force,
+                        _ => f[3 * side.nodes[j / 3] + j % 3] += force,
+                    }
                 }
             }
         }

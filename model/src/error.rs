@@ -27,7 +27,7 @@ pub enum LopinError {
         known: String,
     },
     /// Two substructures touch on a face region but their nodes do not pair one to one.
-    #[error("{}substructures `{a}` and `{b}` share a face region near ({x:.6e}, {y:.6e}, {z:.6e}) but their nodes do not match (interfaces must be conforming)", source_prefix(.source_name))]
+    #[error("{}substructures `{a}` and `{b}` share a face region near ({x:.6e}, {y:.6e}, {z:.6e}) but their faces cannot be coupled: their nodes do not match, and no facet of either is wholly covered by the other's within 25.8° (a non-matching interface needs one side's facets covered)", source_prefix(.source_name))]
     NonConforming {
         /// The scene file path, or `scene NAME` (empty where no scene is known).
         source_name: String,

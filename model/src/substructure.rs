@@ -10,6 +10,7 @@ use faer::sparse::Triplet;
 use crate::elements::hex8;
 use crate::elements::material::Material;
 use crate::elements::tet4;
+pub use crate::interfaces::mortar_trace::MortarRows;
 use crate::linalg::factor::FactorFailure;
 use crate::linalg::sparse::SymmetricMatrix;
 use crate::mesh::{Element, Mesh, Vec3};
@@ -37,6 +38,9 @@ pub struct Substructure {
     pub initial_velocity: Vec3,
     /// Substructure dof of each trace entry (B).
     pub trace_dofs: Vec<usize>,
+    /// The trace entries past `trace_dofs`: the mortar sides of non-matching interfaces, each
+    /// entry a combination of dofs (the rows of B that are not selections).
+    pub trace_mortar: MortarRows,
     /// Area A of each trace entry.
     pub trace_area: Vec<f64>,
     /// Search direction factor per trace dof (k_j = k · trace_k[j]; all 1 for the scalar k,
@@ -184,6 +188,7 @@ impl Substructure {
             stiffness,
             initial_velocity,
             trace_dofs: Vec::new(),
+            trace_mortar: MortarRows::default(),
             trace_area: Vec::new(),
             trace_k: Vec::new(),
             sides: Vec::new(),
@@ -198,7 +203,33 @@ impl Substructure {
 
     /// Length of the trace vector.
     pub fn trace_len(&self) -> usize {
-        self.trace_dofs.len()
+        self.trace_dofs.len() + self.trace_mortar.len()
+    }
+
+    /// (B v)_j: trace entry j of the dof vector v.
+    #[inline]
+    pub fn trace_value(&self, j: usize, v: &[f64]) -> f64 {
+        match self.trace_dofs.get(j) {
+            Some(&d) => v[d],
+            None => self.trace_mortar.value(j - self.trace_dofs.len(), v),
+        }
+    }
+
+    /// out += x Bᵀ e_j: a value x of trace entry j spread on its dofs.
+    #[inline]
+    pub fn add_trace(&self, j: usize, x: f64, out: &mut [f64]) {
+        match self.trace_dofs.get(j) {
+            Some(&d) => out[d] += x,
+            None => self.trace_mortar.add(j - self.trace_dofs.len(), x, out),
+        }
+    }
+
+    /// The component (0, 1, 2 for x, y, z) of trace entry j.
+    pub fn trace_component(&self, j: usize) -> usize {
+        match self.trace_dofs.get(j) {
+            Some(&d) => d % 3,
+            None => self.trace_mortar.component(j - self.trace_dofs.len()),
+        }
     }
 
     /// Initial velocity field v0.
@@ -221,6 +252,7 @@ impl Substructure {
     }
 
     /// Lower-triangle triplets of S = (c_M + α) M + (c_K + β) K + Bᵀ A K B, K = k diag(trace_k)
+    /// (a mortar row b adds k s A b bᵀ, coupling the dofs of its row)
     /// (METHOD §4; 2/Δt M + Δt/2 K for the trapezoidal rule without damping,
     /// [`crate::time::time_scheme`]).
     pub fn operator_triplets(
@@ -244,6 +276,18 @@ impl Substructure {
             .zip(&self.trace_k)
         {
             t.push(Triplet::new(d, d, k * s * a));
+        }
+        let first = self.trace_dofs.len();
+        for r in 0..self.trace_mortar.len() {
+            let j = first + r;
+            let c = k * self.trace_k[j] * self.trace_area[j];
+            let (dofs, weights) = self.trace_mortar.row(r);
+            for (p, (&dp, &wp)) in dofs.iter().zip(weights).enumerate() {
+                for (&dq, &wq) in dofs[..=p].iter().zip(weights) {
+                    let (row, col) = if dp >= dq { (dp, dq) } else { (dq, dp) };
+                    t.push(Triplet::new(row, col, c * wp * wq));
+                }
+            }
         }
         t
     }

@@ -3,7 +3,8 @@
 //! and 4 ranks takes the same number of iterations, reaches the same η and gives the same
 //! interface fields (F, W) and ŝ, bit for bit, as the solver on one machine: on
 //! `two-blocks --split 2` (the whole interval and one-step windows), on `granular-small`
-//! single- and two-scale, and over a 3-value friction sweep with warm starts. The energy
+//! single- and two-scale, on `two-blocks-nonmatching` with A in four substructures (mortar
+//! interfaces across ranks), and over a 3-value friction sweep with warm starts. The energy
 //! balance and the summary (contact histories summed over the ranks) equal the one-machine ones
 //! too. While it iterates no rank stores the whole s and ŝ (memory falls with the ranks); the
 //! solution gathered on rank 0 is compared. The same comparison runs under `mpirun` in
@@ -151,8 +152,19 @@ fn same_as_one_machine(
     tweak: &(dyn Fn(&mut Settings) + Sync),
     friction: &[f64],
 ) {
+    same_as_on_ranks(label, spec, tweak, friction, 4);
+}
+
+/// [`same_as_one_machine`] on 1 to `max_ranks` ranks.
+fn same_as_on_ranks(
+    label: &str,
+    spec: &SceneSpec,
+    tweak: &(dyn Fn(&mut Settings) + Sync),
+    friction: &[f64],
+    max_ranks: usize,
+) {
     let (serial, energy, summary) = solve_on(spec, None, tweak, friction);
-    for p in 1..=4 {
+    for p in 1..=max_ranks {
         let (dist, e, sum) = solve_on(spec, Some(p), tweak, friction);
         assert_eq!(
             format!("{sum:?}"),
@@ -208,6 +220,22 @@ fn granular_small_single_and_two_scale_is_the_same_on_one_to_four_ranks() {
         &spec,
         &|s| s.two_scale = true,
         &[0.3],
+    );
+}
+
+/// A non-matching contact (A cut in 2 × 2 substructures on B's other mesh, B one
+/// substructure as heavy as A's four): four mortar interfaces whose sides lie on different
+/// ranks, on one to three ranks.
+#[test]
+fn a_non_matching_contact_is_the_same_on_one_to_three_ranks() {
+    let mut spec = spec("two-blocks-nonmatching", 1);
+    spec.bodies[0].split = [2, 2, 1];
+    same_as_on_ranks(
+        "two-blocks-nonmatching, A in 4",
+        &spec,
+        &|s| s.window = Some(1),
+        &[0.3],
+        3,
     );
 }
 

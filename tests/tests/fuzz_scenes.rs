@@ -34,8 +34,9 @@ use proptest::test_runner::TestRunner;
 /// The name every error of a mutated scene must carry.
 const SOURCE: &str = "fuzz.toml";
 /// Scenes whose text is mutated: small registry scenes and the stress suite's test scenes.
-const SCENES: [&str; 8] = [
+const SCENES: [&str; 9] = [
     "two-blocks",
+    "two-blocks-nonmatching",
     "gap-impact",
     "bar",
     "bar-bimaterial",
@@ -191,12 +192,19 @@ const SOLVER_SETTINGS: [(&str, &[&str]); 6] = [
 
 /// Edits run before the drawn ones, every time (scene, text replaced — empty: append —, new
 /// text): the edges of each stage, and the failures the fuzzer found.
-const FIXED: [(&str, &str, &str); 9] = [
-    // nodes that do not match across an interface (found: the error did not name the file)
+const FIXED: [(&str, &str, &str); 10] = [
+    // nodes that do not match across an interface (found: the error did not name the file;
+    // now a non-matching interface)
     (
         "mini-blocks",
         "divisions = [4, 4, 2]",
         "divisions = [7, 4, 2]",
+    ),
+    // a non-matching contact whose faces overlap in part
+    (
+        "two-blocks-nonmatching",
+        "min = [0.0, 0.0, 0.0]",
+        "min = [0.013, 0.0, 0.0]",
     ),
     (
         "bar-bimaterial",

@@ -149,13 +149,41 @@ fn footprint_counted_from_the_scene_matches_the_built_problem() {
 }
 
 #[test]
-fn contact_face_made_non_conforming_by_divisions_is_reported_not_dropped() {
+fn contact_face_made_non_matching_by_divisions_is_coupled_not_dropped() {
     // gap-impact's contact faces face each other across 0.1 mm; with 4 × 4 elements on B's top
-    // face against A's 5 × 5 they cannot pair node to node: before, the model silently had no
-    // contact at all and the cube fell through
+    // face against A's 5 × 5 they cannot pair node to node: once the model silently had no
+    // contact at all and the cube fell through; now they are one non-matching contact over the
+    // whole face, with the gap between them
     let mut spec = scene::load("gap-impact").expect("scene");
     spec.bodies[1].divisions = [4, 4, 5];
-    let err = scene::problem_of(&spec, "gap-impact").expect_err("non-conforming");
+    let problem = scene::problem_of(&spec, "gap-impact").expect("a non-matching contact");
+    let contacts: Vec<_> = problem
+        .interfaces
+        .iter()
+        .filter(|i| i.is_contact())
+        .collect();
+    assert_eq!(contacts.len(), 1);
+    let area: f64 = contacts[0].area.iter().step_by(3).sum();
+    assert!((area / 0.02f64.powi(2) - 1.0).abs() < 1e-9, "{area}");
+    let lopin_core::interfaces::interface::Law::Contact(c) = &contacts[0].law else {
+        unreachable!()
+    };
+    assert!(
+        c.gap.iter().all(|g| (g - 1e-4).abs() < 1e-12),
+        "{:?}",
+        c.gap
+    );
+    // faces overlapping with no facet of either wholly covered by the other: reported, naming
+    // both bodies
+    let mut spec = scene::load("gap-impact").expect("scene");
+    for b in &mut spec.bodies {
+        b.divisions = [1, 1, 5];
+    }
+    for c in 0..2 {
+        spec.bodies[1].min[c] += 0.01;
+        spec.bodies[1].max[c] += 0.01;
+    }
+    let err = scene::problem_of(&spec, "gap-impact").expect_err("cannot be coupled");
     assert!(matches!(err, LopinError::NonConforming { .. }), "{err}");
     let msg = err.to_string();
     assert!(

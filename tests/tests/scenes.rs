@@ -8,7 +8,7 @@ use std::time::Instant;
 
 use lopin_core::interfaces::interface::Law;
 use lopin_core::scene::granular::{self, Layout};
-use lopin_core::{post, scene, Control, LopinError, Parameter, Problem, Settings, Solver};
+use lopin_core::{post, scene, Control, Parameter, Problem, Settings, Solver};
 use lopin_tests::{assert_clear_errors, asset, rel_diff, solve, velocity_history};
 
 /// Each malformed file gives an error naming the file, the field and the reason.
@@ -85,13 +85,23 @@ fn malformed_scene_files_get_clear_errors() {
     );
 }
 
+/// Meshes whose contact faces do not match are joined by a non-matching contact over the
+/// whole face (the unit tests of `interfaces::non_matching` and `tests/non_matching.rs` check
+/// it; faces that cannot be coupled are refused in `tests/hardening.rs`).
 #[test]
-fn nonconforming_meshes_are_rejected() {
+fn non_matching_meshes_are_joined() {
     let mut spec = scene::registry::builtin("two-blocks").expect("registry");
     spec.bodies[0].divisions = [8, 8, 5];
-    let err = scene::problem_of(&spec, "test").expect_err("nonconforming");
-    assert!(matches!(err, LopinError::NonConforming { .. }), "{err}");
-    assert!(err.to_string().contains("do not match"));
+    let problem = scene::problem_of(&spec, "test").expect("non-matching contact");
+    let contact: Vec<_> = problem
+        .interfaces
+        .iter()
+        .filter(|i| i.is_contact())
+        .collect();
+    assert_eq!(contact.len(), 1);
+    assert!(contact[0].sides[1].projection.is_some());
+    let area: f64 = contact[0].area.iter().step_by(3).sum();
+    assert!((area / 0.04f64.powi(2) - 1.0).abs() < 1e-9, "{area}");
 }
 
 /// No NaN, ever: every registry scene at its default settings converges with finite fields.

@@ -305,7 +305,7 @@ fn homogenize(
             let col = &mut z[(m.local + c) * n..(m.local + c + 1) * n];
             for (j, e) in b.column(c).iter().enumerate() {
                 let t = m.trace_offset + j;
-                col[sub.trace_dofs[t]] += sub.trace_area[t] * sub.trace_k[t] * e;
+                sub.add_trace(t, sub.trace_area[t] * sub.trace_k[t] * e, col);
             }
         }
     }
@@ -354,7 +354,7 @@ fn homogenize(
                     .enumerate()
                     .map(|(j, ej)| {
                         let t = m.trace_offset + j;
-                        ej * sub.trace_area[t] * sub.trace_k[t] * zc[sub.trace_dofs[t]]
+                        ej * sub.trace_area[t] * sub.trace_k[t] * sub.trace_value(t, zc)
                     })
                     .sum();
                 l[(m.local + c) * count + col] -= k * k * s;

@@ -88,6 +88,17 @@ fn operator_key(sub: &Substructure) -> Vec<i64> {
         key.push(d as i64);
         key.push(quantize(a, amax));
     }
+    // mortar rows k s A b bᵀ: their dofs and weighted entries
+    let first = sub.trace_dofs.len();
+    for r in 0..sub.trace_mortar.len() {
+        let j = first + r;
+        let (dofs, weights) = sub.trace_mortar.row(r);
+        key.push(-(dofs.len() as i64) - 1);
+        for (&d, &w) in dofs.iter().zip(weights) {
+            key.push(d as i64);
+            key.push(quantize(sub.trace_area[j] * sub.trace_k[j] * w, amax));
+        }
+    }
     key
 }
 
@@ -109,6 +120,9 @@ pub fn homogenized_classes(
     Classes::from_keys(subs.iter().enumerate().map(|(s, sub)| {
         let mut key = vec![factors.of[s] as i64, sub.trace_len() as i64];
         key.extend(sub.trace_dofs.iter().map(|&d| d as i64));
+        for r in 0..sub.trace_mortar.len() {
+            key.extend(sub.trace_mortar.row(r).0.iter().map(|&d| -(d as i64) - 1));
+        }
         let amax = sub
             .trace_area
             .iter()

@@ -212,7 +212,7 @@ impl Solver {
                         let mut h = TraceHistory::zeros(i.len, n);
                         let sub = &p.subs[side.sub];
                         for (j, w) in h.w[..i.len].iter_mut().enumerate() {
-                            *w = sub.initial_velocity[sub.trace_dofs[side.offset + j] % 3];
+                            *w = sub.initial_velocity[sub.trace_component(side.offset + j)];
                         }
                         if let Some(pre) = &sub.prestress {
                             h.f[..i.len]

@@ -198,6 +198,7 @@ mod tests {
                 sub: 0,
                 offset: 0,
                 nodes: vec![0],
+                projection: None,
             }],
             len: 1,
             area: vec![2.0],

@@ -247,13 +247,18 @@ pub fn form_rhs(sub: &Substructure, work: &mut LinearWork, input: &LinearInput<'
     for (j, &d) in sub.trace_dofs.iter().enumerate() {
         rhs[d] += sub.trace_area[j] * (fhat[j] + k * sub.trace_k[j] * what[j]);
     }
+    for j in sub.trace_dofs.len()..sub.trace_len() {
+        let x = sub.trace_area[j] * (fhat[j] + k * sub.trace_k[j] * what[j]);
+        sub.add_trace(j, x, rhs);
+    }
     y.copy_from_slice(rhs);
 }
 
 /// F¹ = F̂_m + k (Ŵ_m − B v¹) on the trace, after [`predict`] (METHOD §9 step 1).
 pub fn trial_force(sub: &Substructure, work: &LinearWork, k: f64, out: &mut [f64]) {
-    for (j, &d) in sub.trace_dofs.iter().enumerate() {
-        out[j] = work.fhat[j] + k * sub.trace_k[j] * (work.what[j] - work.rhs_then_v[d]);
+    for j in 0..sub.trace_len() {
+        let w = sub.trace_value(j, &work.rhs_then_v);
+        out[j] = work.fhat[j] + k * sub.trace_k[j] * (work.what[j] - w);
     }
 }
 
@@ -302,6 +307,13 @@ pub fn complete(
         for (j, &d) in sub.trace_dofs.iter().enumerate() {
             y[d] += k * sub.trace_k[j] * sub.trace_area[j] * c.macro_trace[j];
         }
+        for j in sub.trace_dofs.len()..sub.trace_len() {
+            sub.add_trace(
+                j,
+                k * sub.trace_k[j] * sub.trace_area[j] * c.macro_trace[j],
+                y,
+            );
+        }
     }
     let mut sums = IndicatorSums::default();
     // rhs now holds v_m; y becomes (c_K + β) K v_m = rhs_m − (c_M + α) M v_m − k BᵀAB v_m
@@ -314,6 +326,16 @@ pub fn complete(
         let w = rhs[d];
         let (a, kj) = (sub.trace_area[j], k * sub.trace_k[j]);
         y[d] -= kj * a * w;
+        let macro_w = correction.as_ref().map_or(0.0, |c| c.macro_trace[j]);
+        let f = fhat[j] + kj * (what[j] + macro_w - w);
+        out.w[r.start + j] = w;
+        out.f[r.start + j] = f;
+        sums.add_dof(a, kj, (f, w), (fhat[j], what[j]));
+    }
+    for j in sub.trace_dofs.len()..sub.trace_len() {
+        let w = sub.trace_value(j, rhs);
+        let (a, kj) = (sub.trace_area[j], k * sub.trace_k[j]);
+        sub.add_trace(j, -kj * a * w, y);
         let macro_w = correction.as_ref().map_or(0.0, |c| c.macro_trace[j]);
         let f = fhat[j] + kj * (what[j] + macro_w - w);
         out.w[r.start + j] = w;

@@ -1,7 +1,8 @@
 //! Automatic interface detection: substructures whose boundary faces coincide (or face each other
 //! across a gap, for contact) get an interface with conforming node pairs, lumped nodal areas A
 //! and normals outward of side 1 (METHOD §1, §10 "node pairing must be identical on both
-//! sides"). Boundary-condition interfaces are selected on a plane of a substructure's boundary.
+//! sides"); faces left whose nodes do not match get a non-matching interface
+//! ([`crate::interfaces::non_matching`]). Boundary-condition interfaces are selected on a plane of a substructure's boundary.
 
 use std::collections::{BTreeMap, HashMap};
 
@@ -33,7 +34,7 @@ pub enum PairRule {
 }
 
 /// Relative tolerance on coordinates (times the face size).
-const REL_TOL: f64 = 1e-6;
+pub(crate) const REL_TOL: f64 = 1e-6;
 /// Faces are facing when n₁·n₂ < −FACING.
 const FACING: f64 = 0.999;
 
@@ -96,35 +97,41 @@ pub fn detect_interfaces_grouped(
     let mut found = Matches {
         matched: faces.iter().map(|f| vec![false; f.len()]).collect(),
         groups: BTreeMap::new(),
+        mortars: Vec::new(),
     };
     scene.match_coincident(diameter, &mut found)?;
     let max_search = scene.match_across_gaps(search_bound, diameter, &mut found)?;
+    scene.match_non_matching(search_bound, diameter, &mut found)?;
     scene.check_conforming(&found.matched, max_search)?;
 
+    let mortars = std::mem::take(&mut found.mortars);
     Ok(found
         .groups
         .into_iter()
         .flat_map(|((s, t), matches)| build_two_sided(subs, s, t, &matches, pair_rule(s, t)))
+        .chain(mortars)
         .collect())
 }
 
 /// The substructures with their boundary faces, bounding boxes (and their sweep along x), how
 /// two of them are joined (`pair_rule(s, t)`) and the face groups (`group(s, face)`): what
 /// interface detection reads.
-struct SceneFaces<'a> {
-    subs: &'a [Substructure],
-    faces: &'a [Vec<Face>],
-    boxes: &'a [(Vec3, Vec3)],
-    sweep: &'a BoxSweep,
-    pair_rule: &'a dyn Fn(usize, usize) -> PairRule,
-    group: &'a dyn Fn(usize, &Face) -> usize,
+pub(crate) struct SceneFaces<'a> {
+    pub(crate) subs: &'a [Substructure],
+    pub(crate) faces: &'a [Vec<Face>],
+    pub(crate) boxes: &'a [(Vec3, Vec3)],
+    pub(crate) sweep: &'a BoxSweep,
+    pub(crate) pair_rule: &'a dyn Fn(usize, usize) -> PairRule,
+    pub(crate) group: &'a dyn Fn(usize, &Face) -> usize,
 }
 
 /// The face pairs found so far: per substructure and boundary face, whether it is matched, and
-/// the matched pairs per pair of substructures (s < t).
-struct Matches {
-    matched: Vec<Vec<bool>>,
+/// the matched pairs per pair of substructures (s < t), and the non-matching interfaces with
+/// their groups ([`crate::interfaces::non_matching`]).
+pub(crate) struct Matches {
+    pub(crate) matched: Vec<Vec<bool>>,
     groups: BTreeMap<(usize, usize), Vec<FaceMatch>>,
+    pub(crate) mortars: Vec<(Interface, usize)>,
 }
 
 /// The hash key of a point: its coordinates rounded to multiples of `quantum`.
@@ -281,8 +288,38 @@ impl SceneFaces<'_> {
     }
 }
 
+impl Matches {
+    /// Unmatches the faces of substructures s and t (s < t) that matched each other node to
+    /// node, dropping their pairs. Returns whether there were any.
+    pub(crate) fn release(&mut self, s: usize, t: usize, faces: &[Vec<Face>]) -> bool {
+        let Some(matches) = self.groups.remove(&(s, t)) else {
+            return false;
+        };
+        let sorted = |mut v: Vec<usize>| {
+            v.sort_unstable();
+            v
+        };
+        let of_s: std::collections::HashSet<Vec<usize>> = matches
+            .iter()
+            .map(|m| sorted(m.face.nodes.clone()))
+            .collect();
+        let of_t: std::collections::HashSet<Vec<usize>> = matches
+            .iter()
+            .map(|m| sorted(m.pairs.iter().map(|p| p.1).collect()))
+            .collect();
+        for (sub, set) in [(s, &of_s), (t, &of_t)] {
+            for (f, face) in faces[sub].iter().enumerate() {
+                if self.matched[sub][f] && set.contains(&sorted(face.nodes.clone())) {
+                    self.matched[sub][f] = false;
+                }
+            }
+        }
+        true
+    }
+}
+
 /// The group of a matched face pair from its two faces' (0: none).
-fn pair_group(a: usize, b: usize) -> usize {
+pub(crate) fn pair_group(a: usize, b: usize) -> usize {
     match (a, b) {
         (0, g) | (g, 0) => g,
         (a, b) => a.min(b),
@@ -378,6 +415,7 @@ pub fn boundary_interface_on(
             sub: s,
             offset: 0,
             nodes,
+            projection: None,
         }],
         k_scale: vec![1.0; areas.len()],
         area: areas,
@@ -385,37 +423,49 @@ pub fn boundary_interface_on(
     })
 }
 
-/// Assigns every interface side its slice of its substructure's trace vector (METHOD §11).
+/// Assigns every interface side its slice of its substructure's trace vector (METHOD §11): the
+/// sides that select nodal dofs first, in interface order, then the mortar sides of
+/// non-matching interfaces ([`crate::interfaces::mortar_trace`]).
 pub fn assemble_traces(subs: &mut [Substructure], interfaces: &mut [Interface]) {
     for s in subs.iter_mut() {
         s.trace_dofs.clear();
+        s.trace_mortar = Default::default();
         s.trace_area.clear();
         s.sides.clear();
     }
-    for (i, iface) in interfaces.iter_mut().enumerate() {
-        let boundary = match &iface.law {
-            Law::Boundary(laws) => Some(laws.clone()),
-            _ => None,
-        };
-        for (k, side) in iface.sides.iter_mut().enumerate() {
-            let sub = &mut subs[side.sub];
-            side.offset = sub.trace_len();
-            sub.sides.push(SideRef {
-                interface: i,
-                side: k,
-            });
-            match &boundary {
-                Some(laws) => {
-                    for (j, (&n, law)) in side.nodes.iter().zip(laws).enumerate() {
-                        sub.trace_dofs.push(3 * n + law.component);
-                        sub.trace_area.push(iface.area[j]);
-                    }
+    for mortar in [false, true] {
+        for (i, iface) in interfaces.iter_mut().enumerate() {
+            let boundary = match &iface.law {
+                Law::Boundary(laws) => Some(laws.clone()),
+                _ => None,
+            };
+            for (k, side) in iface.sides.iter_mut().enumerate() {
+                if side.projection.is_some() != mortar {
+                    continue;
                 }
-                None => {
-                    for (j, &n) in side.nodes.iter().enumerate() {
-                        for c in 0..3 {
-                            sub.trace_dofs.push(3 * n + c);
-                            sub.trace_area.push(iface.area[3 * j + c]);
+                let sub = &mut subs[side.sub];
+                side.offset = sub.trace_len();
+                sub.sides.push(SideRef {
+                    interface: i,
+                    side: k,
+                });
+                match (&boundary, &side.projection) {
+                    (_, Some(p)) => {
+                        sub.trace_mortar.push_projection(p);
+                        sub.trace_area.extend_from_slice(&iface.area);
+                    }
+                    (Some(laws), None) => {
+                        for (j, (&n, law)) in side.nodes.iter().zip(laws).enumerate() {
+                            sub.trace_dofs.push(3 * n + law.component);
+                            sub.trace_area.push(iface.area[j]);
+                        }
+                    }
+                    (None, None) => {
+                        for (j, &n) in side.nodes.iter().enumerate() {
+                            for c in 0..3 {
+                                sub.trace_dofs.push(3 * n + c);
+                                sub.trace_area.push(iface.area[3 * j + c]);
+                            }
                         }
                     }
                 }
@@ -533,11 +583,13 @@ fn two_sided(
                 sub: s,
                 offset: 0,
                 nodes: side1,
+                projection: None,
             },
             Side {
                 sub: t,
                 offset: 0,
                 nodes: side2,
+                projection: None,
             },
         ],
         k_scale: vec![1.0; area.len()],
@@ -698,7 +750,7 @@ fn point_in_face(subs: &[Substructure], t: usize, face: &Face, p: Vec3) -> bool 
     })
 }
 
-fn nonconforming(subs: &[Substructure], s: usize, t: usize, at: Vec3) -> LopinError {
+pub(crate) fn nonconforming(subs: &[Substructure], s: usize, t: usize, at: Vec3) -> LopinError {
     LopinError::NonConforming {
         source_name: String::new(),
         a: subs[s].name.clone(),
@@ -710,7 +762,7 @@ fn nonconforming(subs: &[Substructure], s: usize, t: usize, at: Vec3) -> LopinEr
 }
 
 /// Euclidean distance between two axis-aligned boxes (0 when they overlap or touch).
-fn box_distance(a: &(Vec3, Vec3), b: &(Vec3, Vec3)) -> f64 {
+pub(crate) fn box_distance(a: &(Vec3, Vec3), b: &(Vec3, Vec3)) -> f64 {
     let gap: Vec3 = std::array::from_fn(|c| (b.0[c] - a.1[c]).max(a.0[c] - b.1[c]).max(0.0));
     norm(gap)
 }
@@ -834,14 +886,73 @@ mod tests {
         assert!(free.is_empty());
     }
 
+    /// Shared faces whose nodes do not match: one non-matching interface, side 1 the finer
+    /// face (B's 4 × 4 nodes), its areas adding to the face, every projection row summing to
+    /// one; in contact across a gap, the weighted gap is the distance.
     #[test]
-    fn non_conforming_shared_faces_are_an_error_naming_both_bodies() {
+    fn non_matching_shared_faces_become_one_mortar_interface() {
+        for gap in [0.0, 1e-4] {
+            let subs = vec![
+                block("A", [0.0; 3], [1.0, 1.0, 1.0], [2, 2, 2]),
+                block("B", [0.0, 0.0, 1.0 + gap], [1.0, 1.0, 2.0 + gap], [3, 3, 2]),
+            ];
+            let rule = |_: &str, _: &str| {
+                if gap > 0.0 {
+                    PairRule::Contact {
+                        friction: 0.2,
+                        gap: None,
+                        search: 1e-3,
+                    }
+                } else {
+                    PairRule::Perfect
+                }
+            };
+            let found = detect_interfaces(&subs, &rule).expect("detect");
+            assert_eq!(found.len(), 1);
+            let i = &found[0];
+            assert_eq!(
+                (i.sides[0].sub, i.sides[1].sub),
+                (1, 0),
+                "side 1 is the finer B"
+            );
+            assert_eq!(i.node_count(), 16);
+            let area: f64 = i.area.iter().step_by(3).sum();
+            assert!((area - 1.0).abs() < 1e-12, "{area}");
+            let p = i.sides[1].projection.as_ref().expect("mortar side");
+            for q in 0..p.rows() {
+                let sum: f64 = p.row(q).iter().map(|x| x.1).sum();
+                assert!((sum - 1.0).abs() < 1e-12, "{sum}");
+            }
+            match &i.law {
+                Law::Contact(c) => {
+                    assert!(c.gap.iter().all(|g| (g - gap).abs() < 1e-12), "{:?}", c.gap);
+                    assert!(c.normal.iter().all(|n| (n[2] + 1.0).abs() < 1e-12));
+                }
+                law => assert!(gap == 0.0 && matches!(law, Law::Perfect)),
+            }
+        }
+    }
+
+    /// A block half off another: side 1 is the one the other covers (B's facets over A), the
+    /// interface area is the overlap; two faces overlapping with no facet of either covered by
+    /// the other are an error naming both.
+    #[test]
+    fn partial_overlaps_couple_the_covered_facets_or_are_an_error() {
         let subs = vec![
-            block("A", [0.0; 3], [1.0, 1.0, 1.0], [2, 2, 2]),
-            block("B", [0.0, 0.0, 1.0], [1.0, 1.0, 2.0], [3, 3, 2]),
+            block("A", [0.0; 3], [1.0, 1.0, 1.0], [3, 3, 1]),
+            block("B", [0.5, 0.0, 1.0], [1.5, 1.0, 2.0], [2, 2, 1]),
+        ];
+        let found = detect_interfaces(&subs, &|_, _| PairRule::Perfect).expect("detect");
+        assert_eq!(found.len(), 1);
+        assert_eq!(found[0].sides[0].sub, 1);
+        let area: f64 = found[0].area.iter().step_by(3).sum();
+        assert!((area - 0.5).abs() < 1e-12, "{area}");
+        let subs = vec![
+            block("A", [0.0; 3], [1.0, 1.0, 1.0], [1, 1, 1]),
+            block("B", [0.5, 0.5, 1.0], [1.5, 1.5, 2.0], [1, 1, 1]),
         ];
         let err = detect_interfaces(&subs, &|_, _| PairRule::Perfect)
-            .expect_err("non-conforming faces")
+            .expect_err("nothing covered")
             .to_string();
         assert!(err.contains('A') && err.contains('B'), "{err}");
     }

@@ -13,8 +13,60 @@ pub struct Side {
     pub sub: usize,
     /// Offset of this side's first dof in the substructure's trace vector.
     pub offset: usize,
-    /// Mesh node of each interface node (two-sided: one per node; boundary: one per dof).
+    /// Mesh node of each interface node (two-sided: one per node; boundary: one per dof). On
+    /// the mortar side of a non-matching interface, the node of largest weight in the
+    /// projection's row: what drawings and groupings use; the trace itself is the projection.
     pub nodes: Vec<usize>,
+    /// The mortar side of a non-matching interface: its trace at interface node q is
+    /// Σ_m P_qm v_m ([`crate::interfaces::mortar`]); None: the nodes' own values.
+    pub projection: Option<std::sync::Arc<Projection>>,
+}
+
+/// The projection P of a non-matching interface's mortar side: one row per interface node, each
+/// a few (mesh node, weight) terms ([`crate::interfaces::mortar`]).
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Projection {
+    /// Start of each row in `nodes` and `weights` (rows + 1 entries once a row is pushed).
+    pub starts: Vec<usize>,
+    /// Mesh node of each term.
+    pub nodes: Vec<usize>,
+    /// Weight of each term.
+    pub weights: Vec<f64>,
+}
+
+impl Projection {
+    /// Appends a row.
+    pub fn push_row(&mut self, row: &[(usize, f64)]) {
+        if self.starts.is_empty() {
+            self.starts.push(0);
+        }
+        for &(m, w) in row {
+            self.nodes.push(m);
+            self.weights.push(w);
+        }
+        self.starts.push(self.nodes.len());
+    }
+
+    /// Number of rows.
+    pub fn rows(&self) -> usize {
+        self.starts.len().saturating_sub(1)
+    }
+
+    /// Row q as (mesh node, weight) terms.
+    pub fn row(&self, q: usize) -> Vec<(usize, f64)> {
+        let r = self.starts[q]..self.starts[q + 1];
+        self.nodes[r.clone()]
+            .iter()
+            .copied()
+            .zip(self.weights[r].iter().copied())
+            .collect()
+    }
+
+    /// Row q's mesh nodes and weights as slices.
+    pub fn row_slices(&self, q: usize) -> (&[usize], &[f64]) {
+        let r = self.starts[q]..self.starts[q + 1];
+        (&self.nodes[r.clone()], &self.weights[r])
+    }
 }
 
 /// What a boundary dof prescribes (METHOD §5, per component in global axes).

@@ -9,11 +9,12 @@ use crate::error::Result;
 use crate::scene::{reading, SceneSpec};
 
 /// Names of the built-in scenes, in display order.
-pub const SCENES: [&str; 10] = [
+pub const SCENES: [&str; 11] = [
     "bar",
     "bar-bimaterial",
     "two-blocks",
     "two-blocks-ramp",
+    "two-blocks-nonmatching",
     "gap-impact",
     "bolted-lap",
     "granular-small",
@@ -52,6 +53,9 @@ pub fn source(name: &str) -> Option<&'static str> {
         "bar-bimaterial" => include_str!("../../../assets/scenes/bar-bimaterial.toml"),
         "two-blocks" => include_str!("../../../assets/scenes/two-blocks.toml"),
         "two-blocks-ramp" => include_str!("../../../assets/scenes/two-blocks-ramp.toml"),
+        "two-blocks-nonmatching" => {
+            include_str!("../../../assets/scenes/two-blocks-nonmatching.toml")
+        }
         "gap-impact" => include_str!("../../../assets/scenes/gap-impact.toml"),
         "bolted-lap" => include_str!("../../../assets/scenes/bolted-lap.toml"),
         "granular-small" => include_str!("../../../assets/scenes/granular-small.toml"),

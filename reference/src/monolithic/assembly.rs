@@ -28,13 +28,20 @@ pub struct PairCopy {
 
 /// A pair of global nodes in unilateral contact with Coulomb friction. Copies from several
 /// interfaces that join the same two global nodes with the same law are one pair (their areas
-/// add); the nodal force is shared among them in proportion to area.
+/// add); the nodal force is shared among them in proportion to area. On a non-matching
+/// interface side 2 is a combination of nodes (the mortar projection's row,
+/// `lopin_model::interfaces::mortar`), and a non-matching perfect interface is a pair of
+/// them that is bonded: its relative velocity is zero (the same discrete problem as LATIN's).
 #[derive(Debug, Clone, PartialEq)]
 pub struct ContactPair {
     /// Global node of side 1.
     pub a: usize,
-    /// Global node of side 2.
+    /// Global node of side 2 (on a non-matching interface, the heaviest of `across`).
     pub b: usize,
+    /// Side 2 as (global node, weight): [(b, 1)] on a conforming interface.
+    pub across: Vec<(usize, f64)>,
+    /// Bonded (a non-matching perfect interface): no unilateral law, no friction.
+    pub bonded: bool,
     /// Local frame: normal n (side 1 → side 2), then two unit tangents.
     pub frame: [Vec3; 3],
     /// Friction coefficient f.
@@ -49,6 +56,14 @@ impl ContactPair {
     /// Total lumped area.
     pub fn area(&self) -> f64 {
         self.copies.iter().map(|c| c.area).sum()
+    }
+
+    /// Relative value [x] = Σ w x_b − x_a of component q of a nodal field.
+    #[inline]
+    pub fn jump(&self, x: &[f64], q: usize) -> f64 {
+        let mut terms = self.across.iter().map(|&(b, w)| w * x[3 * b + q]);
+        let first = terms.next().unwrap_or(0.0);
+        terms.fold(first, |s, t| s + t) - x[3 * self.a + q]
     }
 }
 
@@ -118,6 +133,24 @@ impl Assembled {
         let mut pairs: Vec<ContactPair> = Vec::new();
         for (k, iface) in problem.interfaces.iter().enumerate() {
             match &iface.law {
+                Law::Perfect if iface.sides[1].projection.is_some() => {
+                    for i in 0..iface.node_count() {
+                        pairs.push(ContactPair {
+                            a: numbering.node_of[iface.sides[0].sub][iface.sides[0].nodes[i]],
+                            b: numbering.node_of[iface.sides[1].sub][iface.sides[1].nodes[i]],
+                            across: across(&numbering, &iface.sides[1], i),
+                            bonded: true,
+                            frame: frame([0.0, 0.0, 1.0]),
+                            friction: 0.0,
+                            gap: 0.0,
+                            copies: vec![PairCopy {
+                                interface: k,
+                                node: i,
+                                area: iface.area[3 * i],
+                            }],
+                        });
+                    }
+                }
                 Law::Perfect => {}
                 Law::Boundary(dofs) => {
                     let side = &iface.sides[0];
@@ -151,8 +184,12 @@ impl Assembled {
                             area: iface.area[3 * i],
                         };
                         let nrm = c.normal[i];
+                        let mortar = s2.projection.is_some();
                         let same = pairs.iter_mut().find(|p| {
-                            p.a == a
+                            !mortar
+                                && !p.bonded
+                                && p.across.len() == 1
+                                && p.a == a
                                 && p.b == b
                                 && p.friction == c.friction
                                 && p.gap == c.gap[i]
@@ -163,6 +200,8 @@ impl Assembled {
                             None => pairs.push(ContactPair {
                                 a,
                                 b,
+                                across: across(&numbering, s2, i),
+                                bonded: false,
                                 frame: frame(nrm),
                                 friction: c.friction,
                                 gap: c.gap[i],
@@ -224,6 +263,23 @@ impl Assembled {
     /// Sets the friction coefficient of every contact pair.
     pub fn set_friction(&mut self, f: f64) {
         self.pairs.iter_mut().for_each(|p| p.friction = f);
+    }
+}
+
+/// Side 2 of interface node i as (global node, weight): the mortar projection's row, or the
+/// paired node.
+fn across(
+    numbering: &Numbering,
+    side: &lopin_model::interfaces::interface::Side,
+    i: usize,
+) -> Vec<(usize, f64)> {
+    match &side.projection {
+        Some(p) => p
+            .row(i)
+            .into_iter()
+            .map(|(m, w)| (numbering.node_of[side.sub][m], w))
+            .collect(),
+        None => vec![(numbering.node_of[side.sub][side.nodes[i]], 1.0)],
     }
 }
 

@@ -31,14 +31,15 @@ impl Default for ContactControls {
 }
 
 /// Solves one step. `q`: relative velocities of the free solution (local frames); `v_lim`:
-/// normal bound per pair; `friction`: f per pair; `y`: forces (P, −T₁, −T₂) per pair, used as
-/// the starting guess and overwritten. Returns (sweeps, last relative change) and leaves
-/// w = q + D y in `w`.
+/// normal bound per pair; `friction`: f per pair, and whether the pair is bonded (w = 0, the
+/// force free: its 3 × 3 block solved exactly; an empty list: none); `y`: forces
+/// (P, −T₁, −T₂) per pair, used as the starting guess and overwritten. Returns (sweeps, last
+/// relative change) and leaves w = q + D y in `w`.
 pub fn solve_step(
     d: &Delassus,
     q: &[f64],
     v_lim: &[f64],
-    friction: &[f64],
+    (friction, bonded): (&[f64], &[bool]),
     y: &mut [f64],
     w: &mut [f64],
     controls: ContactControls,
@@ -60,22 +61,30 @@ pub fn solve_step(
         for p in 0..n / 3 {
             let i = 3 * p;
             let old = [y[i], y[i + 1], y[i + 2]];
-            // normal: exact scalar solve with the tangential forces fixed
-            let dnn = d.at(i, i);
-            let pn = (old[0] + (v_lim[p] - w[i]) / dnn).max(0.0);
-            // tangential: w_t = q̃ − D_tt T with T = −(y₁, y₂)
-            let dtt = [
-                [d.at(i + 1, i + 1), d.at(i + 1, i + 2)],
-                [d.at(i + 2, i + 1), d.at(i + 2, i + 2)],
-            ];
-            let dtn = [d.at(i + 1, i), d.at(i + 2, i)];
-            let t_old = [-old[1], -old[2]];
-            let qt = [
-                w[i + 1] + dtn[0] * (pn - old[0]) + dtt[0][0] * t_old[0] + dtt[0][1] * t_old[1],
-                w[i + 2] + dtn[1] * (pn - old[0]) + dtt[1][0] * t_old[0] + dtt[1][1] * t_old[1],
-            ];
-            let t = coulomb_disc(dtt, qt, friction[p] * pn);
-            let new = [pn, -t[0], -t[1]];
+            let new = if bonded.get(p).copied().unwrap_or(false) {
+                // w = 0 on the pair: its 3 × 3 block solved exactly
+                let block: [[f64; 3]; 3] =
+                    std::array::from_fn(|r| std::array::from_fn(|c| d.at(i + r, i + c)));
+                let step = solve3(block, [w[i], w[i + 1], w[i + 2]]);
+                [old[0] - step[0], old[1] - step[1], old[2] - step[2]]
+            } else {
+                // normal: exact scalar solve with the tangential forces fixed
+                let dnn = d.at(i, i);
+                let pn = (old[0] + (v_lim[p] - w[i]) / dnn).max(0.0);
+                // tangential: w_t = q̃ − D_tt T with T = −(y₁, y₂)
+                let dtt = [
+                    [d.at(i + 1, i + 1), d.at(i + 1, i + 2)],
+                    [d.at(i + 2, i + 1), d.at(i + 2, i + 2)],
+                ];
+                let dtn = [d.at(i + 1, i), d.at(i + 2, i)];
+                let t_old = [-old[1], -old[2]];
+                let qt = [
+                    w[i + 1] + dtn[0] * (pn - old[0]) + dtt[0][0] * t_old[0] + dtt[0][1] * t_old[1],
+                    w[i + 2] + dtn[1] * (pn - old[0]) + dtt[1][0] * t_old[0] + dtt[1][1] * t_old[1],
+                ];
+                let t = coulomb_disc(dtt, qt, friction[p] * pn);
+                [pn, -t[0], -t[1]]
+            };
             let delta = [new[0] - old[0], new[1] - old[1], new[2] - old[2]];
             for (k, &dk) in delta.iter().enumerate() {
                 if dk != 0.0 {
@@ -146,6 +155,23 @@ pub fn coulomb_disc(d: [[f64; 2]; 2], q: [f64; 2], r: f64) -> [f64; 2] {
     [t[0] * r / l, t[1] * r / l]
 }
 
+/// x with a x = b for a 3 × 3 matrix (Cramer's rule).
+fn solve3(a: [[f64; 3]; 3], b: [f64; 3]) -> [f64; 3] {
+    let det = |m: [[f64; 3]; 3]| {
+        m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+            - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+            + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
+    };
+    let d = det(a);
+    std::array::from_fn(|c| {
+        let mut m = a;
+        for (r, row) in m.iter_mut().enumerate() {
+            row[c] = b[r];
+        }
+        det(m) / d
+    })
+}
+
 /// (D + λI)⁻¹ q for a symmetric 2×2 D.
 fn shifted_solve(d: [[f64; 2]; 2], lam: f64, q: [f64; 2]) -> [f64; 2] {
     let (a, b, c) = (d[0][0] + lam, d[0][1], d[1][1] + lam);
@@ -181,17 +207,38 @@ mod tests {
             n: 3,
             d: vec![2.0, 0.0, 0.0, 0.0, 2.0, 0.0, 0.0, 0.0, 2.0],
         };
-        let mut y = [0.0; 3];
-        let mut w = [0.0; 3];
         let ctl = ContactControls::default();
-        solve_step(&d, &[-2.0, 1.0, 0.0], &[-0.5], &[0.1], &mut y, &mut w, ctl).expect("solve");
+        let solve = |q: [f64; 3], y: &mut [f64; 3], w: &mut [f64; 3]| {
+            solve_step(&d, &q, &[-0.5], (&[0.1], &[]), y, w, ctl).expect("solve");
+        };
+        let (mut y, mut w) = ([0.0; 3], [0.0; 3]);
+        solve([-2.0, 1.0, 0.0], &mut y, &mut w);
         assert!((y[0] - 0.75).abs() < 1e-15 && (w[0] + 0.5).abs() < 1e-15);
         // slip: |T| = f P = 0.075 against w_t = 1 − 2 T
         assert!((y[1].abs() - 0.075).abs() < 1e-15);
         assert!(w[1] > 0.0 && -y[1] > 0.0);
         // separating: no force
         let mut y = [0.0; 3];
-        solve_step(&d, &[1.0, 1.0, 0.0], &[-0.5], &[0.1], &mut y, &mut w, ctl).expect("solve");
+        solve([1.0, 1.0, 0.0], &mut y, &mut w);
         assert_eq!(y, [0.0; 3]);
+    }
+
+    /// A bonded pair (non-matching perfect interface) ends at w = 0 whatever its approach,
+    /// its force −D⁻¹ q, here with a coupled 3 × 3 block.
+    #[test]
+    fn a_bonded_pair_ends_at_rest_relative_to_its_other_side() {
+        let d = Delassus {
+            n: 3,
+            d: vec![2.0, 0.5, 0.0, 0.5, 1.5, 0.2, 0.0, 0.2, 1.0],
+        };
+        let q = [1.0, -2.0, 0.5];
+        let (mut y, mut w) = ([0.0; 3], [0.0; 3]);
+        let ctl = ContactControls::default();
+        solve_step(&d, &q, &[-0.5], (&[0.0], &[true]), &mut y, &mut w, ctl).expect("solve");
+        assert!(w.iter().all(|x| x.abs() < 1e-14), "{w:?}");
+        for (r, &qr) in q.iter().enumerate() {
+            let dy: f64 = (0..3).map(|c| d.at(r, c) * y[c]).sum();
+            assert!((qr + dy).abs() < 1e-14);
+        }
     }
 }

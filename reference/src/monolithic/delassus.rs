@@ -4,7 +4,7 @@
 //! computed once from blocked solves with the global factorization; a time step then needs only
 //! the free solution and D to state the contact problem on the pairs.
 
-use super::assembly::Assembled;
+use super::assembly::{Assembled, ContactPair};
 use lopin_model::linalg::factor::CholeskyFactor;
 use lopin_model::mesh::Vec3;
 
@@ -33,13 +33,7 @@ impl Delassus {
             for c in 0..cols {
                 let (p, q) = ((col + c) / 3, (col + c) % 3);
                 let pair = &asm.pairs[p];
-                scatter(
-                    asm,
-                    pair.a,
-                    pair.b,
-                    pair.frame[q],
-                    &mut x[c * nf..(c + 1) * nf],
-                );
+                scatter(asm, pair, pair.frame[q], &mut x[c * nf..(c + 1) * nf]);
             }
             factor.solve_many_in_place(&mut x, cols);
             for c in 0..cols {
@@ -47,7 +41,7 @@ impl Delassus {
                 let out = &mut d[(col + c) * n..(col + c + 1) * n];
                 for (p, pair) in asm.pairs.iter().enumerate() {
                     for q in 0..3 {
-                        out[3 * p + q] = gather(asm, pair.a, pair.b, pair.frame[q], xc);
+                        out[3 * p + q] = gather(asm, pair, pair.frame[q], xc);
                     }
                 }
             }
@@ -75,29 +69,36 @@ impl Delassus {
     }
 }
 
-/// x += Gᵀ e for one pair and direction: −e on node a, +e on node b (free dofs only).
-pub fn scatter(asm: &Assembled, a: usize, b: usize, e: Vec3, x: &mut [f64]) {
+/// x += Gᵀ e for one pair and direction: −e on node a, +w e on each node b of side 2 (free
+/// dofs only).
+pub fn scatter(asm: &Assembled, pair: &ContactPair, e: Vec3, x: &mut [f64]) {
     for q in 0..3 {
-        let (fa, fb) = (asm.free_index[3 * a + q], asm.free_index[3 * b + q]);
+        let fa = asm.free_index[3 * pair.a + q];
         if fa != usize::MAX {
             x[fa] -= e[q];
         }
-        if fb != usize::MAX {
-            x[fb] += e[q];
+        for &(b, w) in &pair.across {
+            let fb = asm.free_index[3 * b + q];
+            if fb != usize::MAX {
+                x[fb] += w * e[q];
+            }
         }
     }
 }
 
-/// e · (x_b − x_a) over the free dofs of the two nodes.
-fn gather(asm: &Assembled, a: usize, b: usize, e: Vec3, x: &[f64]) -> f64 {
+/// e · (Σ w x_b − x_a) over the free dofs of the pair's nodes.
+fn gather(asm: &Assembled, pair: &ContactPair, e: Vec3, x: &[f64]) -> f64 {
     let mut s = 0.0;
     for q in 0..3 {
-        let (fa, fb) = (asm.free_index[3 * a + q], asm.free_index[3 * b + q]);
+        let fa = asm.free_index[3 * pair.a + q];
         if fa != usize::MAX {
             s -= e[q] * x[fa];
         }
-        if fb != usize::MAX {
-            s += e[q] * x[fb];
+        for &(b, w) in &pair.across {
+            let fb = asm.free_index[3 * b + q];
+            if fb != usize::MAX {
+                s += w * e[q] * x[fb];
+            }
         }
     }
     s

@@ -90,10 +90,7 @@ pub fn march(
         solve_s: 0.0,
         contact_s: 0.0,
     };
-    let jump = |v: &[f64], p: usize| -> Vec3 {
-        let (ia, ib) = (asm.pairs[p].a, asm.pairs[p].b);
-        std::array::from_fn(|q| v[3 * ib + q] - v[3 * ia + q])
-    };
+    let jump = |v: &[f64], p: usize| -> Vec3 { std::array::from_fn(|q| asm.pairs[p].jump(v, q)) };
     let mut jn: Vec<f64> = (0..np)
         .map(|p| dot(asm.pairs[p].frame[0], jump(&v, p)))
         .collect();
@@ -111,6 +108,7 @@ pub fn march(
     let mut q = vec![0.0; 3 * np];
     let mut v_lim = vec![0.0; np];
     let friction: Vec<f64> = asm.pairs.iter().map(|p| p.friction).collect();
+    let bonded: Vec<bool> = asm.pairs.iter().map(|p| p.bonded).collect();
     let mut tmp = vec![0.0; n];
     let mut ktmp = vec![0.0; n];
     let mut rhs = vec![0.0; asm.free];
@@ -181,8 +179,15 @@ pub fn march(
                 // persistent law (a penetrated pair is not pushed apart)
                 v_lim[p] = if c.statics { v_star } else { v_star.min(0.0) };
             }
-            let (sweeps, change) =
-                solve_step(delassus, &q, &v_lim, &friction, &mut y, &mut w, controls)?;
+            let (sweeps, change) = solve_step(
+                delassus,
+                &q,
+                &v_lim,
+                (&friction, &bonded),
+                &mut y,
+                &mut w,
+                controls,
+            )?;
             sol.sweeps += sweeps;
             sol.max_sweeps = sol.max_sweeps.max(sweeps);
             sol.contact_change = sol.contact_change.max(change);
@@ -195,7 +200,7 @@ pub fn march(
                     let yg: Vec3 = std::array::from_fn(|c| {
                         (0..3).map(|k| y[3 * p + k] * pair.frame[k][c]).sum()
                     });
-                    scatter(asm, pair.a, pair.b, yg, &mut corr);
+                    scatter(asm, pair, yg, &mut corr);
                 }
                 factor.solve_in_place(&mut corr, &mut scratch);
                 for g in 0..n {
@@ -232,10 +237,7 @@ pub fn march(
         if !c.trapezoidal {
             // gap and slip from the displacement jump of the scheme's update
             for (p, pair) in asm.pairs.iter().enumerate() {
-                let du: Vec3 = std::array::from_fn(|q| {
-                    (u[3 * pair.b + q] - u_prev[3 * pair.b + q])
-                        - (u[3 * pair.a + q] - u_prev[3 * pair.a + q])
-                });
+                let du: Vec3 = std::array::from_fn(|q| pair.jump(&u, q) - pair.jump(&u_prev, q));
                 gap[p] += dot(pair.frame[0], du);
                 let dt_slip = tangential(du, pair.frame[0]);
                 for q in 0..3 {

@@ -31,7 +31,8 @@ impl Numbering {
         let total: usize = problem.subs.iter().map(|s| s.mesh.nodes.len()).sum();
         let mut parent: Vec<usize> = (0..total).collect();
         for iface in &problem.interfaces {
-            if !matches!(iface.law, Law::Perfect) {
+            // a non-matching perfect interface is bonded by its pairs, not merged
+            if !matches!(iface.law, Law::Perfect) || iface.sides[1].projection.is_some() {
                 continue;
             }
             let (s1, s2) = (&iface.sides[0], &iface.sides[1]);

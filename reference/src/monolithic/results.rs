@@ -77,8 +77,10 @@ impl Monolithic {
                     if boundary[3 * pair.a + c] {
                         b[3 * pair.a + c] -= f1[c];
                     }
-                    if boundary[3 * pair.b + c] {
-                        b[3 * pair.b + c] += f1[c];
+                    for &(node, w) in &pair.across {
+                        if boundary[3 * node + c] {
+                            b[3 * node + c] += w * f1[c];
+                        }
                     }
                 }
             }
