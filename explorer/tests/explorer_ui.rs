@@ -2,7 +2,8 @@
 //! Vulkan driver): the friction slider launches a converged warm re-solve, the time scrubber,
 //! field choice and section change what is drawn, a click on the body picks a probe node (its
 //! history, acceleration and shock response spectrum, the spectrum's tab drawn), and
-//! snapshot images of the main views are compared with the committed ones
+//! a scene with non-matching contact faces shows contact fields on both, and snapshot images of
+//! the main views are compared with the committed ones
 //! (`tests/snapshots/`; regenerate with `UPDATE_SNAPSHOTS=1`).
 
 use common::{harness, settle};
@@ -264,6 +265,35 @@ fn a_scene_on_tetrahedra_loads_and_draws() {
     assert!(!app.layout.mesh().vertices.is_empty());
     let reports = app.solve.reports();
     assert_eq!(reports.len(), 1, "{reports:?}");
+}
+
+/// A scene whose contact faces do not match (`two-blocks-nonmatching`: 10 × 10 on 13 × 13) loads,
+/// solves and is drawn, and both faces carry the contact fields: every node of B's top face
+/// (side 1) and of A's bottom face (the mortar side) shows an interface node.
+#[test]
+fn a_non_matching_scene_loads_solves_and_shows_contact_on_both_faces() {
+    let mut h = harness("two-blocks");
+    settle(&mut h);
+    h.state_mut().pending_scene = Some("two-blocks-nonmatching".into());
+    h.step();
+    settle(&mut h);
+    let app = h.state();
+    assert_eq!(app.info.name, "two-blocks-nonmatching");
+    assert!(app.solve.error().is_none(), "{:?}", app.solve.error());
+    let reports = app.solve.reports();
+    assert_eq!(reports.len(), 1, "{reports:?}");
+    assert!(reports[0].converged, "{reports:?}");
+    let on_face = |s: usize, z: f32| {
+        let g = &app.geometry.subs[s];
+        let face: Vec<usize> = (0..g.nodes.len())
+            .filter(|&n| (g.nodes[n].z - z).abs() < 1e-6)
+            .collect();
+        let shown = face.iter().filter(|&&n| g.contact[n].is_some()).count();
+        (face.len(), shown)
+    };
+    // substructure 0 is A (11 × 11 nodes on its bottom), 1 is B (14 × 14 on its top)
+    assert_eq!(on_face(0, 0.02), (121, 121));
+    assert_eq!(on_face(1, 0.02), (196, 196));
 }
 
 /// The polyhedral granular material (`granular-poly`: ten grains meshed by gmsh, the matrix cut
