@@ -14,7 +14,7 @@ use lopin_core::scene;
 use lopin_core::solver::batch::{step_together, Lane};
 use lopin_core::solver::{Control, Solution};
 use lopin_core::study::runner::{self, Outcome, RunOptions};
-use lopin_core::study::{Chains, Design, Path, Predictor, Spread, Target};
+use lopin_core::study::{Design, Spread, Target};
 use lopin_core::{Parameter, Settings, Solver};
 
 /// `two-blocks` with its settings at tolerance `tol` on windows of `window` steps (over the
@@ -250,17 +250,11 @@ fn study(
     chains: usize,
     batch: usize,
 ) -> Vec<Outcome> {
-    let path = Path::greedy(&design.points);
     runner::run_gathered(
         &|| Solver::new(problem.clone(), settings),
         design,
-        &Chains::split(&path, chains),
-        RunOptions {
-            cold: false,
-            compare_cold: false,
-            predictor: Predictor::Nearest,
-            batch,
-        },
+        chains,
+        RunOptions::warm(batch),
     )
     .expect("study")
 }

@@ -9,7 +9,7 @@
 use lopin_core::scene;
 use lopin_core::study::runner::{self, Outcome, RunOptions};
 use lopin_core::study::Predictor;
-use lopin_core::study::{projection, Chains, Design, Path, Sampling, Spread, Target};
+use lopin_core::study::{projection, Design, Sampling, Spread, Target};
 use lopin_core::{Settings, Solver};
 
 fn run(chains: usize, cold: bool) -> Vec<Outcome> {
@@ -64,11 +64,10 @@ fn solve_design(
     cold: bool,
     predictor: Predictor,
 ) -> Vec<Outcome> {
-    let path = Path::greedy(&design.points);
     runner::run_gathered(
         &|| Solver::new(problem.clone(), settings),
         design,
-        &Chains::split(&path, chains),
+        chains,
         RunOptions {
             cold,
             compare_cold: false,

@@ -11,7 +11,7 @@
 use anyhow::Context;
 use lopin_core::counters::Instant;
 use lopin_core::study::runner::{self, Outcome, RunOptions};
-use lopin_core::study::{Chains, Design, Path, Predictor, Spread, Target};
+use lopin_core::study::{Design, Spread, Target};
 use lopin_core::window_choice::Task;
 use lopin_core::{Problem, Settings, Solver};
 
@@ -157,18 +157,12 @@ fn timed(
     chains: usize,
     batch: usize,
 ) -> anyhow::Result<(Vec<Outcome>, f64)> {
-    let path = Path::greedy(&design.points);
     let start = Instant::now();
     let out = runner::run_gathered(
         &|| Solver::new(problem.clone(), settings),
         design,
-        &Chains::split(&path, chains),
-        RunOptions {
-            cold: false,
-            compare_cold: false,
-            predictor: Predictor::Nearest,
-            batch,
-        },
+        chains,
+        RunOptions::warm(batch),
     )?;
     let wall = start.elapsed().as_secs_f64();
     Ok((out, wall))

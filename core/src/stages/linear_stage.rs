@@ -244,10 +244,7 @@ pub fn form_rhs(sub: &Substructure, work: &mut LinearWork, input: &LinearInput<'
                 - (state.ku[i] + ratio * state.ckv[i] + c.u_from_a * state.ka[i]);
         }
     }
-    for (j, &d) in sub.trace_dofs.iter().enumerate() {
-        rhs[d] += sub.trace_area[j] * (fhat[j] + k * sub.trace_k[j] * what[j]);
-    }
-    for j in sub.trace_dofs.len()..sub.trace_len() {
+    for j in 0..sub.trace_len() {
         let x = sub.trace_area[j] * (fhat[j] + k * sub.trace_k[j] * what[j]);
         sub.add_trace(j, x, rhs);
     }
@@ -304,15 +301,9 @@ pub fn complete(
                 rhs.iter_mut().zip(z).for_each(|(v, zi)| *v += k * a * zi);
             }
         }
-        for (j, &d) in sub.trace_dofs.iter().enumerate() {
-            y[d] += k * sub.trace_k[j] * sub.trace_area[j] * c.macro_trace[j];
-        }
-        for j in sub.trace_dofs.len()..sub.trace_len() {
-            sub.add_trace(
-                j,
-                k * sub.trace_k[j] * sub.trace_area[j] * c.macro_trace[j],
-                y,
-            );
+        for j in 0..sub.trace_len() {
+            let x = k * sub.trace_k[j] * sub.trace_area[j] * c.macro_trace[j];
+            sub.add_trace(j, x, y);
         }
     }
     let mut sums = IndicatorSums::default();
@@ -322,17 +313,7 @@ pub fn complete(
         y[i] -= cm * sub.mass[i] * rhs[i];
     }
     let r = out.at(m);
-    for (j, &d) in sub.trace_dofs.iter().enumerate() {
-        let w = rhs[d];
-        let (a, kj) = (sub.trace_area[j], k * sub.trace_k[j]);
-        y[d] -= kj * a * w;
-        let macro_w = correction.as_ref().map_or(0.0, |c| c.macro_trace[j]);
-        let f = fhat[j] + kj * (what[j] + macro_w - w);
-        out.w[r.start + j] = w;
-        out.f[r.start + j] = f;
-        sums.add_dof(a, kj, (f, w), (fhat[j], what[j]));
-    }
-    for j in sub.trace_dofs.len()..sub.trace_len() {
+    for j in 0..sub.trace_len() {
         let w = sub.trace_value(j, rhs);
         let (a, kj) = (sub.trace_area[j], k * sub.trace_k[j]);
         sub.add_trace(j, -kj * a * w, y);

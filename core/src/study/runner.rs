@@ -93,6 +93,18 @@ pub struct RunOptions {
     pub batch: usize,
 }
 
+impl RunOptions {
+    /// Warm from the nearest solved configuration, `batch` at a time.
+    pub fn warm(batch: usize) -> Self {
+        Self {
+            cold: false,
+            compare_cold: false,
+            predictor: Predictor::Nearest,
+            batch,
+        }
+    }
+}
+
 /// What a resumed study holds already.
 #[derive(Clone, Copy)]
 pub struct Resumed<'a> {
@@ -170,19 +182,21 @@ pub fn run(
     }
 }
 
-/// [`run`] of a study started afresh, every outcome gathered and returned in configuration
-/// order (for callers that read them all at the end: benchmarks, tests).
+/// [`run`] of a study started afresh along the greedy path through `design` cut into `chains`
+/// chains ([`super::path`]), every outcome gathered and returned in configuration order (for
+/// callers that read them all at the end: benchmarks, tests).
 pub fn run_gathered(
     make_solver: &(dyn Fn() -> Result<Solver> + Sync),
     design: &Design,
-    chains: &Chains,
+    chains: usize,
     options: RunOptions,
 ) -> Result<Vec<Outcome>> {
+    let path = super::path::Path::greedy(&design.points);
     let out = Mutex::new(Vec::new());
     run(
         make_solver,
         design,
-        chains,
+        &Chains::split(&path, chains),
         options,
         Resumed::nothing(),
         &|o, _| {

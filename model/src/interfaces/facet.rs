@@ -92,7 +92,13 @@ impl Facet {
 
     /// The facet's corners in its plane frame, counter-clockwise.
     pub fn polygon(&self) -> Vec<[f64; 2]> {
-        self.points.iter().map(|&p| self.to_plane(p)).collect()
+        self.corners_on(self)
+    }
+
+    /// The facet's corners projected on the plane of `plane`, in its node order (plane
+    /// coordinates of that facet's frame).
+    pub fn corners_on(&self, plane: &Facet) -> Vec<[f64; 2]> {
+        self.points.iter().map(|&q| plane.to_plane(q)).collect()
     }
 
     /// Shape functions at reference coordinates ξ (triangle: (ξ, η) with N = (1 − ξ − η, ξ, η);
@@ -101,12 +107,12 @@ impl Facet {
         shape(self.len(), xi)
     }
 
-    /// The reference coordinates of plane point `x` (plane coordinates of `plane`'s frame) on
-    /// this facet projected on that plane: exact for a triangle, Newton on the bilinear map for
-    /// a quadrangle.
-    pub fn reference_coordinates(&self, plane: &Facet, x: [f64; 2]) -> [f64; 2] {
-        let p: Vec<[f64; 2]> = self.points.iter().map(|&q| plane.to_plane(q)).collect();
-        inverse_map(&p, x)
+    /// The reference coordinates of plane point `x` on this facet whose `corners` on that plane
+    /// are given ([`Self::corners_on`]): exact for a triangle, Newton on the bilinear map for a
+    /// quadrangle.
+    pub fn reference_coordinates(&self, corners: &[[f64; 2]], x: [f64; 2]) -> [f64; 2] {
+        debug_assert_eq!(corners.len(), self.len());
+        inverse_map(corners, x)
     }
 
     /// Area element |∂x/∂ξ × ∂x/∂η| at reference coordinates ξ.
@@ -300,7 +306,7 @@ mod tests {
                 let s = f.shape(xi);
                 let p: Vec3 =
                     std::array::from_fn(|a| (0..f.len()).map(|i| s[i] * f.points[i][a]).sum());
-                let back = f.reference_coordinates(&f, f.to_plane(p));
+                let back = f.reference_coordinates(&f.polygon(), f.to_plane(p));
                 assert!((back[0] - xi[0]).abs() < 1e-12 && (back[1] - xi[1]).abs() < 1e-12);
             }
         }

@@ -101,7 +101,7 @@ pub fn overlapping_pairs(
             if dot(f.normal, g.normal) > -FACING {
                 continue;
             }
-            let overlap = clip(&projected(f, g), &poly);
+            let overlap = clip(&counter_clockwise(&g.corners_on(f)), &poly);
             if polygon_area(&overlap) <= 1e-12 * area {
                 continue;
             }
@@ -142,15 +142,16 @@ pub fn couple(one: &[Facet], two: &[Facet], pairs: &[(usize, usize)]) -> Couplin
         let mut seen = 0.0;
         for &j in js {
             let g = &two[j];
-            let segment = clip(&projected(f, g), &poly);
+            let corners = g.corners_on(f);
+            let segment = clip(&counter_clockwise(&corners), &poly);
             let s_area = polygon_area(&segment);
             if s_area <= 1e-12 * full {
                 continue;
             }
             seen += s_area;
             for (x, w) in segment_rule(&segment) {
-                let nf = f.shape(f.reference_coordinates(f, x));
-                let ng = g.shape(g.reference_coordinates(f, x));
+                let nf = f.shape(f.reference_coordinates(&poly, x));
+                let ng = g.shape(g.reference_coordinates(&corners, x));
                 for (k, dk) in d.iter_mut().enumerate().take(n) {
                     *dk += w * nf[k];
                     let psi: f64 = (0..n).map(|l| a[k * n + l] * nf[l]).sum();
@@ -220,9 +221,10 @@ pub fn couple(one: &[Facet], two: &[Facet], pairs: &[(usize, usize)]) -> Couplin
     }
 }
 
-/// Side-2 facet `g` projected on the plane of `f`, counter-clockwise there.
-fn projected(f: &Facet, g: &Facet) -> Vec<[f64; 2]> {
-    let mut p: Vec<[f64; 2]> = g.points.iter().map(|&x| f.to_plane(x)).collect();
+/// A polygon's corners, counter-clockwise (a side-2 facet projected on a side-1 facet's plane
+/// turns the other way).
+fn counter_clockwise(corners: &[[f64; 2]]) -> Vec<[f64; 2]> {
+    let mut p = corners.to_vec();
     if polygon_signed_area(&p) < 0.0 {
         p.reverse();
     }

@@ -40,12 +40,9 @@ impl SceneFaces<'_> {
         diameter: f64,
         found: &mut Matches,
     ) -> Result<()> {
+        let widest: Vec<f64> = (0..self.subs.len()).map(|s| self.widest_face(s)).collect();
         for s in 0..self.subs.len() {
-            let widest = self.faces[s]
-                .iter()
-                .map(|f| f.area.sqrt())
-                .fold(0.0, f64::max);
-            let reach = search_bound.max(0.0) + REL_TOL * diameter + SAG * widest;
+            let reach = search_bound.max(0.0) + REL_TOL * diameter + SAG * widest[s];
             let (lo, hi) = self.boxes[s];
             for t in self.sweep.meeting(lo[0] - reach, hi[0] + reach) {
                 if t <= s {
@@ -56,11 +53,13 @@ impl SceneFaces<'_> {
                     PairRule::Contact { search, .. } => search.max(0.0),
                     PairRule::Perfect => 0.0,
                 };
-                let slack = REL_TOL * diameter + SAG * widest;
+                let slack = REL_TOL * diameter + SAG * widest[s];
                 if box_distance(&self.boxes[s], &self.boxes[t]) > search + slack {
                     continue;
                 }
-                self.couple_pair(s, t, search, slack, found)?;
+                // the faces of either within reach of the other's box
+                let reach = search + slack + widest[s].max(widest[t]);
+                self.couple_pair(s, t, search, reach, found)?;
             }
         }
         Ok(())
@@ -92,16 +91,16 @@ impl SceneFaces<'_> {
         out
     }
 
-    /// Couples the unmatched faces of s and t that overlap, if any.
+    /// Couples the unmatched faces of s and t (those within `reach` of the other's bounding
+    /// box) that overlap, if any.
     fn couple_pair(
         &self,
         s: usize,
         t: usize,
         search: f64,
-        slack: f64,
+        reach: f64,
         found: &mut Matches,
     ) -> Result<()> {
-        let reach = search + slack + self.widest_face(s).max(self.widest_face(t));
         let (a, b) = (
             self.candidates(s, t, reach, found),
             self.candidates(t, s, reach, found),
@@ -121,15 +120,15 @@ impl SceneFaces<'_> {
             };
             (-SAG * h, above)
         };
-        if overlapping_pairs(&a.facets, &b.facets, &window).is_empty() {
+        let pairs = overlapping_pairs(&a.facets, &b.facets, &window);
+        if pairs.is_empty() {
             return Ok(());
         }
         // the faces of s and t that matched node to node join the coupling: one interface
         // between the two, not a conforming one beside a non-matching one sharing its nodes
         if found.release(s, t, self.faces) {
-            return self.couple_pair(s, t, search, slack, found);
+            return self.couple_pair(s, t, search, reach, found);
         }
-        let pairs = overlapping_pairs(&a.facets, &b.facets, &window);
         let (a, b, pairs) = involved(a, b, &pairs);
         let reversed: Vec<(usize, usize)> = overlapping_pairs(&b.facets, &a.facets, &window);
         let from_a = couple(&a.facets, &b.facets, &pairs);
@@ -159,18 +158,27 @@ impl SceneFaces<'_> {
             }
         }
         let rule = (self.pair_rule)(s, t);
-        // one interface per face group of the side-1 facets (contacts only)
-        let group_of = |i: usize| match rule {
-            PairRule::Contact { .. } => {
-                let j = p.iter().find(|x| x.0 == i).map_or(0, |x| x.1);
-                pair_group(
-                    (self.group)(one, &self.faces[one][c1.faces[i]]),
-                    (self.group)(two, &self.faces[two][c2.faces[j]]),
-                )
+        // one interface per face group of the side-1 facets (contacts only): a facet's group
+        // with that of the first side-2 facet it overlaps
+        let mut first_over = vec![usize::MAX; c1.facets.len()];
+        for &(i, j) in &p {
+            if first_over[i] == usize::MAX {
+                first_over[i] = j;
             }
-            _ => 0,
-        };
-        let groups: BTreeSet<usize> = (0..c1.facets.len()).map(group_of).collect();
+        }
+        let group_of: Vec<usize> = (0..c1.facets.len())
+            .map(|i| match rule {
+                PairRule::Contact { .. } => pair_group(
+                    (self.group)(one, &self.faces[one][c1.faces[i]]),
+                    first_over
+                        .get(i)
+                        .filter(|&&j| j != usize::MAX)
+                        .map_or(0, |&j| (self.group)(two, &self.faces[two][c2.faces[j]])),
+                ),
+                _ => 0,
+            })
+            .collect();
+        let groups: BTreeSet<usize> = group_of.iter().copied().collect();
         if groups.len() == 1 {
             let g = groups.into_iter().next().unwrap_or(0);
             found
@@ -180,7 +188,7 @@ impl SceneFaces<'_> {
         }
         for g in groups {
             let part: Vec<(usize, usize)> =
-                p.iter().copied().filter(|x| group_of(x.0) == g).collect();
+                p.iter().copied().filter(|x| group_of[x.0] == g).collect();
             let c = couple(&c1.facets, &c2.facets, &part);
             if !c.nodes.is_empty() {
                 found

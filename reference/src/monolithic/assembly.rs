@@ -36,9 +36,7 @@ pub struct PairCopy {
 pub struct ContactPair {
     /// Global node of side 1.
     pub a: usize,
-    /// Global node of side 2 (on a non-matching interface, the heaviest of `across`).
-    pub b: usize,
-    /// Side 2 as (global node, weight): [(b, 1)] on a conforming interface.
+    /// Side 2 as (global node, weight): its one node, weight 1, on a conforming interface.
     pub across: Vec<(usize, f64)>,
     /// Bonded (a non-matching perfect interface): no unilateral law, no friction.
     pub bonded: bool,
@@ -137,7 +135,6 @@ impl Assembled {
                     for i in 0..iface.node_count() {
                         pairs.push(ContactPair {
                             a: numbering.node_of[iface.sides[0].sub][iface.sides[0].nodes[i]],
-                            b: numbering.node_of[iface.sides[1].sub][iface.sides[1].nodes[i]],
                             across: across(&numbering, &iface.sides[1], i),
                             bonded: true,
                             frame: frame([0.0, 0.0, 1.0]),
@@ -177,7 +174,7 @@ impl Assembled {
                     let (s1, s2) = (&iface.sides[0], &iface.sides[1]);
                     for i in 0..iface.node_count() {
                         let a = numbering.node_of[s1.sub][s1.nodes[i]];
-                        let b = numbering.node_of[s2.sub][s2.nodes[i]];
+                        let across = across(&numbering, s2, i);
                         let copy = PairCopy {
                             interface: k,
                             node: i,
@@ -188,9 +185,8 @@ impl Assembled {
                         let same = pairs.iter_mut().find(|p| {
                             !mortar
                                 && !p.bonded
-                                && p.across.len() == 1
                                 && p.a == a
-                                && p.b == b
+                                && p.across == across
                                 && p.friction == c.friction
                                 && p.gap == c.gap[i]
                                 && dot(p.frame[0], nrm) > 1.0 - 1e-12
@@ -199,8 +195,7 @@ impl Assembled {
                             Some(p) => p.copies.push(copy),
                             None => pairs.push(ContactPair {
                                 a,
-                                b,
-                                across: across(&numbering, s2, i),
+                                across,
                                 bonded: false,
                                 frame: frame(nrm),
                                 friction: c.friction,
