@@ -7,4 +7,5 @@ pub mod cli;
 pub mod export;
 pub mod ranks;
 pub mod record;
+pub mod result_folder;
 pub mod run_dir;

@@ -6,9 +6,11 @@
 //! (its state files); a study's chains dealt to 2 and 3 ranks give the rows of the same chains
 //! on threads of one process; a run restarted from a checkpoint writes the solution of the
 //! uninterrupted run; bad input ends every rank with one message; a rank that dies ends the job
-//! within seconds, and the job's output says which rank and where to restart.
+//! within seconds, and the job's output says which rank and where to restart. The run and study
+//! folders an mpirun job writes open in the explorer, every stored state readable.
 #![cfg(feature = "mpi")]
 
+use lopin_explorer::result_folder::{FolderKind, StoredResult};
 use std::path::Path;
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
@@ -90,11 +92,28 @@ fn runs_equal_the_run_on_one_machine_on_one_to_four_ranks() {
                 bytes(&d.join("solution.bin")) == bytes(&dir.join("solution.bin")),
                 "{case:?} on {ranks} ranks: the solution file differs"
             );
+            if ranks == 2 {
+                opens_in_the_explorer(&d, &dist);
+            }
             println!(
                 "{case:?}: {ranks} ranks, {} iterations, eta {}, solution file identical",
                 dist["iterations"], dist["eta"]
             );
         }
+    }
+}
+
+/// The folder an mpirun run wrote opens in the explorer: one row, its stored solution (the
+/// run's iterations) read back whole for the rebuilt problem.
+fn opens_in_the_explorer(dir: &Path, report: &serde_json::Value) {
+    let f = lopin_app::result_folder::open(dir).expect("the explorer opens the folder");
+    assert_eq!(f.kind, FolderKind::Run);
+    assert_eq!(f.table.rows.len(), 1);
+    match (f.loader)(0, &f.scene.problem).expect("the solution reads back") {
+        StoredResult::Solution(s) => {
+            assert_eq!(Some(s.iterations as u64), report["iterations"].as_u64());
+        }
+        StoredResult::State(_) => panic!("a run's folder holds its whole solution"),
     }
 }
 
@@ -221,6 +240,19 @@ fn a_study_on_ranks_equals_its_chains_on_threads() {
         // the other ranks' rows were taken into study.csv and their folders removed
         for r in 1..ranks {
             assert!(!d.join(format!("rank-{r}")).exists());
+        }
+        // the folder opens in the explorer with every configuration's state, whichever rank
+        // wrote it
+        let f = lopin_app::result_folder::open(&d).expect("the explorer opens the folder");
+        assert_eq!(f.kind, FolderKind::Study);
+        assert_eq!(f.table.rows.len(), 12);
+        for r in 0..12 {
+            let s = (f.loader)(r, &f.scene.problem);
+            assert!(
+                matches!(s, Ok(StoredResult::State(_))),
+                "row {r}: {:?}",
+                s.err()
+            );
         }
     }
     // fewer chains than ranks: refused once, naming the option

@@ -18,6 +18,8 @@ use crate::measure::{Action, FrameState, Measure};
 use crate::params::{FrictionTargets, Params};
 use crate::recorder::RecorderFactory;
 use crate::recording::Recording;
+use crate::result_folder::{FolderOpener, OpenedFolder, RowSource};
+use crate::results_panel::ResultsView;
 use crate::solve_view::SolveView;
 use crate::study_view::{Compare, StudyView};
 use crate::worker::Worker;
@@ -41,6 +43,9 @@ pub struct Options {
     pub record: bool,
     /// Two-scale linear stage on or off (None: the scene's `solver.macro`).
     pub two_scale: Option<bool>,
+    /// Opens result folders (`scene` naming a folder, or the "open" field of the top bar);
+    /// None: folders cannot be opened (the browser).
+    pub opener: Option<FolderOpener>,
 }
 
 impl Options {
@@ -53,8 +58,19 @@ impl Options {
             recorder: None,
             record: false,
             two_scale: None,
+            opener: None,
         }
     }
+}
+
+/// What the explorer opens: a scene, solved cold first, or a result folder, whose first
+/// configuration is shown from its stored state.
+#[derive(Debug)]
+pub enum Loaded {
+    /// A scene.
+    Scene(Box<scene::Opened>),
+    /// A result folder.
+    Folder(Box<OpenedFolder>),
 }
 
 /// Scene facts shown in the sizes panel.
@@ -101,6 +117,12 @@ pub struct ExplorerApp {
     pub layout: Layout,
     /// Scene chosen in the picker (loaded at the end of the frame).
     pub pending_scene: Option<String>,
+    /// The opened result folder: its table, the row shown.
+    pub results: Option<ResultsView>,
+    /// The folder typed in the top bar's "open" field.
+    pub folder_input: String,
+    /// Folder to open at the end of the frame.
+    pub pending_folder: Option<std::path::PathBuf>,
     /// Whether the GPU view is available (wgpu backend).
     gpu: bool,
     measure: Option<Measure>,
@@ -109,7 +131,30 @@ pub struct ExplorerApp {
 
 /// Opens a scene for the explorer ([`scene::open`]: the whole interval, re-solved warm after
 /// each change), with its options over the scene's `[solver]` table.
-pub(crate) fn load(options: &Options) -> lopin_core::Result<scene::Opened> {
+/// A folder (`options.scene` naming a directory) is opened by `options.opener`.
+pub(crate) fn load(options: &Options) -> Result<Loaded, String> {
+    let path = std::path::Path::new(&options.scene);
+    if path.is_dir() {
+        return open_folder(options, path);
+    }
+    load_scene(options)
+        .map(|o| Loaded::Scene(Box::new(o)))
+        .map_err(|e| e.to_string())
+}
+
+/// Opens a result folder with the options' opener.
+fn open_folder(options: &Options, path: &std::path::Path) -> Result<Loaded, String> {
+    let opener = options.opener.as_ref().ok_or_else(|| {
+        format!(
+            "{}: a folder; this explorer opens scenes only (result folders open in the desktop \
+             explorer, `lopin view FOLDER`)",
+            path.display()
+        )
+    })?;
+    opener.open(path).map(|f| Loaded::Folder(Box::new(f)))
+}
+
+fn load_scene(options: &Options) -> lopin_core::Result<scene::Opened> {
     let overrides = scene::Overrides {
         solver: scene::spec::SolverSpec {
             two_scale: options.two_scale,
@@ -122,7 +167,7 @@ pub(crate) fn load(options: &Options) -> lopin_core::Result<scene::Opened> {
 
 impl ExplorerApp {
     /// Builds the explorer on a scene; the first (cold) solve starts at once in the background.
-    pub fn new(cc: &eframe::CreationContext<'_>, options: Options) -> lopin_core::Result<Self> {
+    pub fn new(cc: &eframe::CreationContext<'_>, options: Options) -> Result<Self, String> {
         let loaded = load(&options)?;
         Self::opened(cc, options, loaded)
     }
@@ -131,8 +176,8 @@ impl ExplorerApp {
     pub(crate) fn opened(
         cc: &eframe::CreationContext<'_>,
         options: Options,
-        loaded: scene::Opened,
-    ) -> lopin_core::Result<Self> {
+        loaded: Loaded,
+    ) -> Result<Self, String> {
         let gpu = match &cc.wgpu_render_state {
             Some(rs) => {
                 crate::render::install(rs);
@@ -146,15 +191,30 @@ impl ExplorerApp {
     fn with_context(
         ctx: egui::Context,
         options: Options,
-        loaded: scene::Opened,
+        loaded: Loaded,
         gpu: bool,
-    ) -> lopin_core::Result<Self> {
+    ) -> Result<Self, String> {
+        let (opened, folder) = match loaded {
+            Loaded::Scene(o) => (*o, None),
+            Loaded::Folder(f) => {
+                let f = *f;
+                let OpenedFolder {
+                    path,
+                    kind,
+                    scene,
+                    table,
+                    loader,
+                    first,
+                } = f;
+                (scene, Some((path, kind, table, loader, first)))
+            }
+        };
         let scene::Opened {
             spec,
             problem,
             settings,
             ..
-        } = loaded;
+        } = opened;
         let geo = SceneGeometry::of(&problem);
         let info = SceneInfo {
             name: spec.name.clone(),
@@ -166,19 +226,44 @@ impl ExplorerApp {
             steps: problem.time.steps,
             dt: problem.time.dt,
         };
-        let params = Params::of(&problem, &settings);
-        let friction_targets = FrictionTargets::of(&problem);
+        let base = Params::of(&problem, &settings);
+        let mut friction_targets = FrictionTargets::of(&problem);
         let wake_ctx = ctx.clone();
         let recording = Recording::new(options.recorder.clone(), &info.name);
-        let worker = Worker::spawn(
+        let rows = folder.as_ref().map(|(_, _, table, loader, _)| RowSource {
+            rows: table.rows.iter().map(|r| r.assigned.clone()).collect(),
+            loader: loader.clone(),
+        });
+        let worker = Worker::spawn_with_rows(
             problem,
             settings,
             Arc::new(move || wake_ctx.request_repaint()),
             recording.slot(),
-        )?;
+            rows,
+        )
+        .map_err(|e| e.to_string())?;
         let clock = Clock::new(info.steps, info.dt, worker.display_step());
+        let (solve, results, params) = match folder {
+            None => (SolveView::start(worker, base.clone()), None, base),
+            Some((path, kind, table, _, first)) => {
+                let results = ResultsView::new(path, kind, table, base, first);
+                let params = results.params_of(first);
+                for a in results
+                    .table
+                    .rows
+                    .get(first)
+                    .map_or(&[][..], |r| &r.assigned)
+                {
+                    if a.parameter == lopin_core::Parameter::Friction {
+                        friction_targets.set(a.zone, Some(a.value));
+                    }
+                }
+                let name = results.row_name(first);
+                let solve = SolveView::start_row(worker, params.clone(), first, name);
+                (solve, Some(results), params)
+            }
+        };
         let study = StudyView::new(&params);
-        let solve = SolveView::start(worker, params);
         let layout = Layout::new(&geo);
         let measure = options.measure.clone().map(Measure::new);
         let record = options.record;
@@ -194,6 +279,9 @@ impl ExplorerApp {
             clock,
             layout,
             pending_scene: None,
+            results,
+            folder_input: String::new(),
+            pending_folder: None,
             gpu,
             measure,
             ctx,
@@ -228,12 +316,61 @@ impl ExplorerApp {
         {
             Ok(app) => *self = app,
             Err(e) => {
-                self.solve.set_error(format!("{e}"));
+                self.solve.set_error(e);
                 if recording {
                     self.set_recording(true);
                 }
             }
         }
+    }
+
+    /// Opens a result folder (the top bar's "open" field); on failure the current scene or
+    /// folder stays and the error is shown.
+    pub fn load_folder(&mut self, path: &std::path::Path) {
+        let recording = self.recording.is_on();
+        let options = Options {
+            scene: path.display().to_string(),
+            record: recording,
+            ..self.options.clone()
+        };
+        let loaded = if path.is_dir() {
+            open_folder(&options, path)
+        } else {
+            Err(format!("{}: not a folder", path.display()))
+        };
+        self.recording.stop();
+        match loaded.and_then(|l| Self::with_context(self.ctx.clone(), options, l, self.gpu)) {
+            Ok(app) => *self = app,
+            Err(e) => {
+                self.solve.set_error(e);
+                if recording {
+                    self.set_recording(true);
+                }
+            }
+        }
+    }
+
+    /// Shows row `r` of the opened result folder: its stored solution, or a warm solve from its
+    /// stored state; the controls take its parameter values.
+    pub fn show_row(&mut self, r: usize) {
+        let Some(results) = &mut self.results else {
+            return;
+        };
+        if r >= results.table.rows.len() {
+            return;
+        }
+        results.shown = Some(r);
+        let params = results.params_of(r);
+        for a in &results.table.rows[r].assigned {
+            if a.parameter == lopin_core::Parameter::Friction {
+                self.friction_targets.set(a.zone, Some(a.value));
+            }
+        }
+        let name = results.row_name(r);
+        let generation = self.solve.show_row(params, r, name);
+        let step = self.clock.step();
+        self.study
+            .on_request(generation, self.solve.requested(), step, &mut self.cache);
     }
 
     /// Picks a node for the probe.
@@ -328,10 +465,22 @@ impl ExplorerApp {
             self.ctx.request_repaint();
         }
         let reproducible = self.options.reproducible;
-        if let Some(name) = crate::panels::top_bar(ui, &self.info, &self.solve, reproducible) {
-            self.pending_scene = Some(name);
+        let folder_field = self
+            .options
+            .opener
+            .is_some()
+            .then_some(&mut self.folder_input);
+        match crate::panels::top_bar(ui, &self.info, &self.solve, reproducible, folder_field) {
+            Some(crate::panels::Picked::Scene(name)) => self.pending_scene = Some(name),
+            Some(crate::panels::Picked::Folder(path)) => self.pending_folder = Some(path),
+            None => {}
         }
+        let mut row_clicked = None;
         crate::panels::left(ui, |ui| {
+            if let Some(results) = &mut self.results {
+                row_clicked = crate::results_panel::show(ui, results);
+                ui.separator();
+            }
             crate::panels::parameters(
                 ui,
                 self.solve.params_mut(),
@@ -362,6 +511,14 @@ impl ExplorerApp {
                 reproducible,
             );
         });
+        if let Some(r) = row_clicked {
+            self.show_row(r);
+        } else if self.results.is_some() && self.solve.params() != self.solve.requested() {
+            // a control moved away from the row shown
+            if let Some(results) = &mut self.results {
+                results.shown = None;
+            }
+        }
         crate::timeline::show(ui, &mut self.clock, &mut self.layout.controls);
         crate::plots::show(ui, &self.solve, &self.cache, &self.clock, &self.info);
         // after the panels, so a change made in them is drawn in this same frame: a new request
@@ -434,6 +591,9 @@ impl ExplorerApp {
         }
         if let Some(name) = self.pending_scene.take() {
             self.load_scene(&name);
+        }
+        if let Some(path) = self.pending_folder.take() {
+            self.load_folder(&path);
         }
     }
 }

@@ -27,6 +27,8 @@ pub mod quantity;
 pub mod recorder;
 pub mod recording;
 pub mod render;
+pub mod result_folder;
+pub mod results_panel;
 pub mod section;
 mod service;
 pub mod solve_view;
@@ -37,14 +39,15 @@ pub mod timeline;
 pub mod view3d;
 pub mod worker;
 
-pub use app::{ExplorerApp, Options};
+pub use app::{ExplorerApp, Loaded, Options};
 pub use recorder::{RecordedSolve, RecorderFactory, SolveRecorder};
+pub use result_folder::{FolderOpener, OpenedFolder};
 
 /// Opens the explorer in a native window (wgpu renderer) and returns when it is closed.
 #[cfg(not(target_arch = "wasm32"))]
 pub fn run_native(options: Options) -> anyhow::Result<()> {
     // fail before opening a window if the scene cannot be opened
-    let loaded = app::load(&options)?;
+    let loaded = app::load(&options).map_err(|e| anyhow::anyhow!(e))?;
     let native = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default()
             .with_title(format!("Lopin — {}", options.scene))

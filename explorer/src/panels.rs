@@ -15,13 +15,24 @@ use egui::{Color32, RichText};
 use lopin_core::interfaces::search_direction::Directions;
 
 /// Top bar: title, scene picker, status. Returns the scene picked, if another one was.
+/// What the top bar asks to open.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Picked {
+    /// A scene from the picker.
+    Scene(String),
+    /// A result folder typed in the "open" field.
+    Folder(std::path::PathBuf),
+}
+
 pub fn top_bar(
     ui: &mut egui::Ui,
     info: &SceneInfo,
     solve: &SolveView,
     reproducible: bool,
-) -> Option<String> {
+    folder: Option<&mut String>,
+) -> Option<Picked> {
     let mut picked = None;
+    let mut folder = folder;
     egui::Panel::top("lopin-top")
         .frame(panel_frame(ui))
         .show(ui, |ui| {
@@ -47,7 +58,18 @@ pub fn top_bar(
                             }
                         }
                     });
-                picked = chosen.filter(|n| *n != info.name);
+                picked = chosen.filter(|n| *n != info.name).map(Picked::Scene);
+                if let Some(text) = folder.take() {
+                    let field = ui.add(
+                        egui::TextEdit::singleline(text)
+                            .hint_text("result folder")
+                            .desired_width(180.0),
+                    );
+                    let enter = field.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
+                    if (ui.button("open").clicked() || enter) && !text.trim().is_empty() {
+                        picked = Some(Picked::Folder(text.trim().into()));
+                    }
+                }
                 ui.label(RichText::new(&info.description).weak());
                 ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
                     status_label(ui, solve, reproducible);

@@ -172,11 +172,21 @@ impl FrictionTargets {
 
     /// Records a move of the slider to `p.friction`.
     pub fn moved(&mut self, p: &Params) {
-        match p.friction_zone {
-            Some(_) => self.values[slot(p.friction_zone)] = p.friction,
+        self.set(p.friction_zone, p.friction);
+    }
+
+    /// Records `value` given to target `zone` (None: every contact) other than by the slider (a
+    /// stored configuration shown).
+    pub fn set(&mut self, zone: Option<usize>, value: Option<f64>) {
+        match zone {
+            Some(_) => {
+                if let Some(v) = self.values.get_mut(slot(zone)) {
+                    *v = value;
+                }
+            }
             None => {
                 for v in self.values.iter_mut().filter(|v| v.is_some()) {
-                    *v = p.friction;
+                    *v = value;
                 }
             }
         }

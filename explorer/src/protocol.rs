@@ -22,10 +22,13 @@ pub(crate) enum Request {
     /// on [`Request::Release`] of its generation: the UI releases it when the next frame
     /// starts, so that the solver does not share the cores with the drawing of the frame that
     /// shows the stand-in picture.
+    /// With `row`, the configuration of that row of the opened result folder: its stored
+    /// solution shown, or its stored state the start of the solve.
     Solve {
         generation: u64,
-        params: Params,
+        params: Box<Params>,
         held: bool,
+        row: Option<usize>,
     },
     /// Lets a held solve begin.
     Release { generation: u64 },

@@ -20,9 +20,11 @@ use crate::protocol::{
     DisplayStep, Event, ProbeHistory, Request, SolveReport, StoredConfig, StudyControl,
 };
 use crate::recorder::{RecordedSolve, RecorderSlot};
+use crate::result_folder::{RowSource, StoredResult};
 use crate::study::{self, Library, StoredStart};
 use lopin_core::counters::{Instant, IterationRecord};
 use lopin_core::post;
+use lopin_core::state::InterfaceState;
 use lopin_core::study::Quantities;
 use lopin_core::{Control, Problem, Solution, SolveRun, Solver};
 use std::sync::mpsc::Sender;
@@ -86,6 +88,8 @@ pub(crate) struct Service {
     last_change: Instant,
     /// The user's solve that waits for its release ([`Request::Release`]) before it begins.
     held: Option<(u64, Params)>,
+    /// The rows of the opened result folder and their loader.
+    rows: Option<RowSource>,
 }
 
 impl Service {
@@ -97,6 +101,7 @@ impl Service {
         display_step: DisplayStep,
         events: Sender<Event>,
         wake: Arc<dyn Fn() + Send + Sync>,
+        rows: Option<RowSource>,
     ) -> Option<Service> {
         let applied = Params::of(&problem, &settings);
         match Solver::new(problem, settings) {
@@ -116,6 +121,7 @@ impl Service {
                 control: StudyControl::default(),
                 last_change: Instant::now(),
                 held: None,
+                rows,
             }),
             Err(e) => {
                 let _ = events.send(Event::Error(format!("{e}")));
@@ -173,9 +179,13 @@ impl Service {
                 generation,
                 params,
                 held,
+                row,
             } = c
             {
-                if held {
+                let params = *params;
+                if let Some(row) = row {
+                    self.begin_row(generation, params, row);
+                } else if held {
                     // begun on its release: the frame drawing its first picture keeps the cores
                     self.held = Some((generation, params));
                 } else {
@@ -288,7 +298,7 @@ impl Service {
                 friction: Some(value),
                 ..c.params.clone()
             };
-            self.start_run(Origin::Background, params);
+            self.start_run(Origin::Background, params, None);
             if self.running.is_none() {
                 self.library.give_up(value);
             }
@@ -332,39 +342,119 @@ impl Service {
     }
 
     fn begin(&mut self, generation: u64, params: Params) {
-        if self.library.adopt(&params) {
+        if self.adopt_stored(generation, &params) {
+            return;
+        }
+        self.start_run(Origin::User(generation), params, None);
+    }
+
+    /// The library takes `params`' base (emptied if it had another); if it stores their
+    /// friction value, that configuration is shown. Returns whether it was.
+    fn adopt_stored(&mut self, generation: u64, params: &Params) -> bool {
+        if self.library.adopt(params) {
             self.send(Event::StudyReset {
                 grid: study::grid(),
             });
         }
         if let Some(index) = params.friction.and_then(|v| self.library.exact(v)) {
-            self.show_stored(generation, params, index);
+            self.show_stored(generation, params.clone(), index);
+            return true;
+        }
+        false
+    }
+
+    /// Shows row `row` of the opened result folder: stored in the library already, its stored
+    /// solution as it is, or a warm solve from its stored state; a state that cannot be read is
+    /// an error naming its file, and nothing else changes.
+    fn begin_row(&mut self, generation: u64, params: Params, row: usize) {
+        let Some(source) = self.rows.clone() else {
+            self.begin(generation, params);
+            return;
+        };
+        let Some(assigned) = source.rows.get(row) else {
+            self.send(Event::Error(format!("the folder has no row {row}")));
+            return;
+        };
+        if self.adopt_stored(generation, &params) {
             return;
         }
-        self.start_run(Origin::User(generation), params);
+        let stored = match (source.loader)(row, self.solver.problem()) {
+            Ok(s) => s,
+            Err(e) => {
+                self.send(Event::Error(e));
+                return;
+            }
+        };
+        if let Err(e) = self.apply(&params, true) {
+            self.send(Event::Error(format!("{e}")));
+            return;
+        }
+        // every zone's value of the row (the friction slider holds one of them)
+        for a in assigned.iter().filter(|a| a.zone.is_some()) {
+            if let Err(e) = self.solver.set_parameter_in(a.parameter, a.zone, a.value) {
+                self.send(Event::Error(format!("{e}")));
+                return;
+            }
+        }
+        match stored {
+            StoredResult::Solution(solution) => {
+                let started = Instant::now();
+                let converged = solution.converged;
+                self.show_solution(generation, params, *solution, started);
+                if converged {
+                    self.store_current();
+                }
+            }
+            StoredResult::State(state) => {
+                self.start_run(Origin::User(generation), params, Some(state));
+            }
+        }
+    }
+
+    /// Sets `params` on the solver. A user's change is set over the user's newest parameters:
+    /// what a background solve set since (its friction value, on every contact or on one zone)
+    /// is undone first, so the values the user did not move are the user's.
+    fn apply(&mut self, params: &Params, user: bool) -> lopin_core::Result<()> {
+        if let Some(c) = self
+            .current
+            .as_ref()
+            .filter(|c| user && c.params != self.applied)
+        {
+            c.params.apply(&self.applied, &mut self.solver)?;
+            self.applied = c.params.clone();
+        }
+        params.apply(&self.applied, &mut self.solver)?;
+        self.applied = params.clone();
+        Ok(())
     }
 
     /// Starts a solve for `params`, warm from the interpolation of the two stored configurations
     /// around its friction value, else from the nearest stored one, or from the user's newest
     /// state where that is strictly nearer (on a tie with a single stored one, the newest).
-    fn start_run(&mut self, origin: Origin, params: Params) {
+    /// With `from`, the solve starts from that state (a stored configuration of its own
+    /// parameters).
+    fn start_run(&mut self, origin: Origin, params: Params, from: Option<InterfaceState>) {
         let background = origin == Origin::Background;
-        if let Err(e) = params.apply(&self.applied, &mut self.solver) {
+        if let Err(e) = self.apply(&params, !background) {
             // a background value that cannot be set is given up, not reported
             if !background {
                 self.send(Event::Error(format!("{e}")));
             }
             return;
         }
-        self.applied = params.clone();
         let newest = self.current.as_ref();
         let held = newest.and_then(|c| c.params.friction);
-        let stored: Option<StoredStart> = params
-            .friction
-            .and_then(|v| self.library.start_beside(v, held));
-        let (state, start, between) = match &stored {
-            Some((s, v, b)) => (Some(s), Some(*v), *b),
-            None => (
+        let stored: Option<StoredStart> = if from.is_some() {
+            None
+        } else {
+            params
+                .friction
+                .and_then(|v| self.library.start_beside(v, held))
+        };
+        let (state, start, between) = match (&from, &stored) {
+            (Some(s), _) => (Some(s), params.friction, None),
+            (None, Some((s, v, b))) => (Some(s), Some(*v), *b),
+            (None, None) => (
                 newest.map(|c| &c.solution.state),
                 newest.and_then(|c| c.params.friction),
                 None,
@@ -397,15 +487,27 @@ impl Service {
     fn show_stored(&mut self, generation: u64, params: Params, index: usize) {
         let started = Instant::now();
         let Some(solution) = self.library.solution(index) else {
-            self.start_run(Origin::User(generation), params);
+            self.start_run(Origin::User(generation), params, None);
             return;
         };
+        self.show_solution(generation, params, solution, started);
+    }
+
+    /// Shows a converged `solution` of `params` as the newest solution of `generation`,
+    /// without solving.
+    fn show_solution(
+        &mut self,
+        generation: u64,
+        params: Params,
+        solution: Solution,
+        started: Instant,
+    ) {
         let report = SolveReport {
             generation,
             params: params.clone(),
             iterations: 0,
             eta: solution.eta,
-            converged: true,
+            converged: solution.converged,
             cancelled: false,
             warm: true,
             start: params.friction,
@@ -544,6 +646,22 @@ impl Service {
                 self.current = Some(c);
             }
         }
+    }
+
+    /// Keeps the newest solution in the library (when the scene has a friction value to key it).
+    fn store_current(&mut self) {
+        let Some(c) = self.current.take() else {
+            return;
+        };
+        if let Some(value) = c.params.friction {
+            let step = self
+                .display_step
+                .get()
+                .min(self.solver.problem().time.steps);
+            let f = fields::compute(&self.solver, &c.solution, step, 0, false);
+            self.store(value, &c.solution, f, false, None);
+        }
+        self.current = Some(c);
     }
 
     /// Keeps a converged configuration solved for the solver's current parameters, with its

@@ -62,6 +62,11 @@ impl SolveView {
     /// Starts the first (cold) solve with `params` on `worker`.
     pub fn start(mut worker: Worker, params: Params) -> SolveView {
         worker.solve(params.clone());
+        SolveView::start_idle(worker, params)
+    }
+
+    /// The view of `worker`, nothing requested yet.
+    fn start_idle(worker: Worker, params: Params) -> SolveView {
         SolveView {
             worker,
             requested: params.clone(),
@@ -75,6 +80,27 @@ impl SolveView {
             last_latency: None,
             to_release: None,
         }
+    }
+
+    /// Starts by showing row `row` (named `name`) of the opened result folder, with its
+    /// parameters `params`, on `worker`.
+    pub fn start_row(worker: Worker, params: Params, row: usize, name: String) -> SolveView {
+        let mut view = SolveView::start_idle(worker, params);
+        view.markers[0].1 = name;
+        view.worker.show_row(view.params.clone(), row);
+        view
+    }
+
+    /// Shows row `row` (named `name`) of the opened result folder with its parameters `params`:
+    /// the controls take them, a running solve is cancelled. Returns the request's generation.
+    pub fn show_row(&mut self, params: Params, row: usize, name: String) -> u64 {
+        self.markers.push((self.convergence.len() as f64, name));
+        self.params = params.clone();
+        self.requested = params.clone();
+        self.change_time = Some(Instant::now());
+        self.last_latency = None;
+        self.error = None;
+        self.worker.show_row(params, row)
     }
 
     /// Lets the solve requested in the previous frame iterate: that frame, which shows the new

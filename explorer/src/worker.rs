@@ -9,6 +9,7 @@
 use crate::params::Params;
 use crate::protocol::{DisplayStep, Event, Request, StudyControl};
 use crate::recorder::RecorderSlot;
+use crate::result_folder::RowSource;
 use crate::service::Service;
 use lopin_core::counters::Instant;
 use lopin_core::Problem;
@@ -59,10 +60,22 @@ impl Worker {
         wake: Arc<dyn Fn() + Send + Sync>,
         recorder: RecorderSlot,
     ) -> lopin_core::Result<Worker> {
+        Self::spawn_with_rows(problem, settings, wake, recorder, None)
+    }
+
+    /// [`Worker::spawn`] on an opened result folder whose rows `rows` describes (see
+    /// [`Worker::show_row`]).
+    pub fn spawn_with_rows(
+        problem: Problem,
+        settings: lopin_core::Settings,
+        wake: Arc<dyn Fn() + Send + Sync>,
+        recorder: RecorderSlot,
+        rows: Option<RowSource>,
+    ) -> lopin_core::Result<Worker> {
         #[cfg(not(target_arch = "wasm32"))]
-        return Self::with_link(problem, settings, wake, recorder, thread_link);
+        return Self::with_link(problem, settings, wake, recorder, rows, thread_link);
         #[cfg(target_arch = "wasm32")]
-        return Self::spawn_inline(problem, settings, wake, recorder);
+        return Self::with_link(problem, settings, wake, recorder, rows, inline_link);
     }
 
     /// The worker the browser uses, on any platform: no thread; the solver is advanced inside
@@ -74,14 +87,7 @@ impl Worker {
         wake: Arc<dyn Fn() + Send + Sync>,
         recorder: RecorderSlot,
     ) -> lopin_core::Result<Worker> {
-        Self::with_link(problem, settings, wake, recorder, |start| {
-            Ok(Link::Inline {
-                service: start().map(Box::new),
-                queue: Vec::new(),
-                budget_ms: INLINE_BUDGET_MS,
-                spent_ms: 0.0,
-            })
-        })
+        Self::with_link(problem, settings, wake, recorder, None, inline_link)
     }
 
     /// The worker whose service `link` starts (where it runs is the link's choice).
@@ -90,14 +96,16 @@ impl Worker {
         settings: lopin_core::Settings,
         wake: Arc<dyn Fn() + Send + Sync>,
         recorder: RecorderSlot,
+        rows: Option<RowSource>,
         link: impl FnOnce(StartService) -> lopin_core::Result<Link>,
     ) -> lopin_core::Result<Worker> {
         settings.validate()?;
         let (events, erx) = channel();
         let display_step = DisplayStep::default();
         let shown = display_step.clone();
-        let start: StartService =
-            Box::new(move || Service::start(problem, settings, recorder, shown, events, wake));
+        let start: StartService = Box::new(move || {
+            Service::start(problem, settings, recorder, shown, events, wake, rows)
+        });
         Ok(Worker {
             events: erx,
             pending: Default::default(),
@@ -135,12 +143,27 @@ impl Worker {
         self.send(Request::Release { generation });
     }
 
+    /// Shows row `row` of the opened result folder with its parameters `params` (its stored
+    /// solution, or a warm solve from its stored state); cancels a running solve. Returns its
+    /// generation.
+    pub fn show_row(&mut self, params: Params, row: usize) -> u64 {
+        self.generation += 1;
+        self.send(Request::Solve {
+            generation: self.generation,
+            params: Box::new(params),
+            held: false,
+            row: Some(row),
+        });
+        self.generation
+    }
+
     fn request_solve(&mut self, params: Params, held: bool) -> u64 {
         self.generation += 1;
         self.send(Request::Solve {
             generation: self.generation,
-            params,
+            params: Box::new(params),
             held,
+            row: None,
         });
         self.generation
     }
@@ -277,6 +300,16 @@ impl Worker {
 
 /// Starts the service (factorizes); None when that failed (the error was sent as an event).
 type StartService = Box<dyn FnOnce() -> Option<Service> + Send>;
+
+/// The browser's link: the service advanced inside [`Worker::poll`].
+fn inline_link(start: StartService) -> lopin_core::Result<Link> {
+    Ok(Link::Inline {
+        service: start().map(Box::new),
+        queue: Vec::new(),
+        budget_ms: INLINE_BUDGET_MS,
+        spent_ms: 0.0,
+    })
+}
 
 /// A solver thread running the service.
 #[cfg(not(target_arch = "wasm32"))]

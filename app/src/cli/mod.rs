@@ -23,8 +23,8 @@ mod setup;
 mod shell;
 mod srs;
 mod stress;
-mod study;
-mod sweep;
+pub(crate) mod study;
+pub(crate) mod sweep;
 mod view;
 
 use clap::{Parser, Subcommand};

@@ -1,4 +1,5 @@
-//! `lopin view` (and `lopin` alone): opens the desktop explorer. Its "record to Rerun" toggle
+//! `lopin view` (and `lopin` alone): opens the desktop explorer on a scene or a result folder
+//! ([`crate::result_folder`]). Its "record to Rerun" toggle
 //! saves to `--rerun FILE` or streams to `--rerun-connect ADDR` (default: a file
 //! `lopin-SCENE-UNIXTIME.rrd` in the current folder).
 
@@ -8,8 +9,10 @@ use std::path::PathBuf;
 /// Options of the explorer.
 #[derive(Debug, Clone, Args)]
 pub struct ViewArgs {
-    /// Built-in scene name (see `lopin scenes`) or path to a .toml scene file.
-    #[arg(default_value = "two-blocks")]
+    /// Built-in scene name (see `lopin scenes`), path to a .toml scene file, or a result
+    /// folder made by `lopin run --out`, `lopin sweep --out` or `lopin study --out` (shown
+    /// from its stored states, then re-solved warm as its parameters move).
+    #[arg(default_value = "two-blocks", value_name = "SCENE|FOLDER")]
     pub scene: String,
     /// Measure: move the friction slider by 0.05 several times, write the re-solve latency and
     /// frame intervals to FILE (JSON), print them and close the window.
@@ -77,6 +80,7 @@ pub fn view(args: &ViewArgs) -> anyhow::Result<std::process::ExitCode> {
         recorder: recorder(args)?,
         record: args.record,
         two_scale: args.two_scale.map(|s| s == super::setup::Switch::On),
+        opener: Some(crate::result_folder::opener()),
     })?;
     Ok(std::process::ExitCode::SUCCESS)
 }

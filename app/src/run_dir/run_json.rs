@@ -132,6 +132,26 @@ impl RunRecord {
         assignments: &[Assignment],
         solver: &Solver,
     ) -> Self {
+        Self::of_problem(
+            kind,
+            scene_source,
+            spec,
+            assignments,
+            solver.problem(),
+            solver.settings(),
+        )
+    }
+
+    /// A record of `kind` for `problem`, built from `spec` with `assignments` set, solved with
+    /// `settings` (a study's, written before any solver exists).
+    pub fn of_problem(
+        kind: &str,
+        scene_source: &str,
+        spec: &SceneSpec,
+        assignments: &[Assignment],
+        problem: &Problem,
+        settings: &Settings,
+    ) -> Self {
         RunRecord {
             kind: kind.into(),
             lopin: Provenance {
@@ -145,8 +165,8 @@ impl RunRecord {
             scene_source: scene_source.into(),
             scene: spec.clone(),
             assignments: assignments.to_vec(),
-            settings: *solver.settings(),
-            problem: ProblemFacts::of(solver.problem()),
+            settings: *settings,
+            problem: ProblemFacts::of(problem),
             timings_s: Timings::default(),
             result: None,
             sweep: None,
@@ -271,6 +291,13 @@ impl RunRecord {
 
     /// Rebuilds the problem and factorizes it with the recorded settings.
     pub fn solver(&self) -> anyhow::Result<Solver> {
+        let opened = self.open_scene()?;
+        Ok(Solver::new(opened.problem, opened.settings)?)
+    }
+
+    /// Rebuilds the problem, checked to be the one the record describes, with the recorded
+    /// settings.
+    pub fn open_scene(&self) -> anyhow::Result<scene::Opened> {
         let label = scene::source_label(&self.scene_source);
         // the scheme the run had (records without ρ∞ in their settings held it in the scene)
         let settings = Settings {
@@ -285,15 +312,15 @@ impl RunRecord {
             assignments: self.assignments.clone(),
             ..scene::Overrides::default()
         };
-        let problem = scene::open(scene::Source::spec(self.scene.clone(), &label), &overrides)
-            .with_context(|| format!("rebuilding {label} from run.json"))?
-            .problem;
-        let facts = ProblemFacts::of(&problem);
+        let mut opened = scene::open(scene::Source::spec(self.scene.clone(), &label), &overrides)
+            .with_context(|| format!("rebuilding {label} from run.json"))?;
+        let facts = ProblemFacts::of(&opened.problem);
         anyhow::ensure!(
             facts == self.problem,
             "run.json: the scene rebuilds to {facts:?}, the run had {:?}",
             self.problem
         );
-        Ok(Solver::new(problem, settings)?)
+        opened.settings = settings;
+        Ok(opened)
     }
 }

@@ -182,6 +182,9 @@ struct Setup {
     predictor: Predictor,
     plan: Plan,
     dir: PathBuf,
+    /// run.json: the scene, its parameter values and the settings, as a run's (the explorer
+    /// rebuilds the problem from it when it opens the folder).
+    record: crate::run_dir::run_json::RunRecord,
 }
 
 /// Reads the options and the scene into a [`Setup`]; `ranks` is the number of ranks started.
@@ -310,6 +313,14 @@ fn setup(args: &StudyArgs, ranks: usize) -> anyhow::Result<Setup> {
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from(format!("out/study-{}", plan.scene)));
+    let record = crate::run_dir::run_json::RunRecord::of_problem(
+        "study",
+        &args.scene.scene,
+        &built.spec,
+        &built.assignments,
+        &problem,
+        &settings,
+    );
     Ok(Setup {
         problem,
         settings,
@@ -318,6 +329,7 @@ fn setup(args: &StudyArgs, ranks: usize) -> anyhow::Result<Setup> {
         predictor,
         plan,
         dir,
+        record,
     })
 }
 
@@ -351,12 +363,14 @@ pub fn study(args: &StudyArgs) -> anyhow::Result<ExitCode> {
         predictor,
         plan,
         dir,
+        record,
     } = crate::ranks::agree(setup(args, size))?;
     // rank 0 opens study.csv (taking in the rows of ranks a killed run left), then says which
     // configurations are finished; every other rank opens its own rows
     let opened = if rank == 0 {
         Rows::open(&dir, &plan, &design, args.resume).and_then(|mut rows| {
             rows::absorb_ranks(&dir, &mut rows, &plan, &design, args.resume)?;
+            record.write(&dir)?;
             Ok(Some(rows))
         })
     } else {

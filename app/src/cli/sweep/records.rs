@@ -329,6 +329,32 @@ impl Store {
         out
     }
 
+    /// Reads the header of the sweep in `dir`, checked (format, checksum).
+    pub fn read_header(dir: &Path) -> anyhow::Result<Header> {
+        let head = dir.join(SWEEP_JSON);
+        let text =
+            fs::read_to_string(&head).with_context(|| format!("reading {}", head.display()))?;
+        read_checked::<HeaderFile>(&text, "sweep header")
+            .map(|h| h.header)
+            .map_err(|e| anyhow::anyhow!("{}: {e}", head.display()))
+    }
+
+    /// Whether value `i` has a record.
+    pub fn has_record(&self, i: usize) -> bool {
+        self.dir.join(record_name(i)).exists()
+    }
+
+    /// Value `i`'s record and its state, checked as a resume checks them; the error names the
+    /// file that failed and why.
+    pub fn read_value(
+        &self,
+        i: usize,
+        problem: &Problem,
+    ) -> Result<(ValueRecord, InterfaceState), String> {
+        self.check_value(i, problem)
+            .map_err(|(path, reason)| format!("{}: {reason}", path.display()))
+    }
+
     /// The checks of value `i`: its record, then its state. The error names the file that
     /// failed and why.
     fn check_value(
