@@ -3,7 +3,8 @@
 #   smoke [SCENE]   : waits for the window, takes a screenshot (out/explorer-smoke.png) and
 #                     checks that the 3D view is drawn (enough colormap-coloured pixels, not just
 #                     the background); without SCENE, `lopin` as the README starts it;
-#   measure [SCENE] : runs `lopin view SCENE --measure` (default two-blocks): stays idle while the
+#   measure [SCENE] : runs `lopin view SCENE --measure` (default two-blocks; SCENE may be a result
+#                     folder): time from the start to the first converged picture, then stays idle while the
 #                     background study stores the friction slider's range, then moves the
 #                     slider 8 times (stored values and values between them); time to the
 #                     first and to the converged picture of each move, frame intervals idle /
@@ -51,6 +52,9 @@ d = json.load(open(sys.argv[1]))
 def row(name, key, scale=1.0, unit="s"):
     s = d[key]
     print(f"| {name} ({unit}) | {s['count']} | {s['median'] * scale:.3f} | {s['p90'] * scale:.3f} | {s['max'] * scale:.3f} |")
+o = d.get("open_to_first_converged_s")
+if o is not None:
+    print(f"open → first converged picture: {o:.2f} s (loading the scene or folder included)")
 print(f"background study: {d['study_wait_s']:.1f} s idle before the moves")
 print("| | n | median | p90 | max |")
 print("|---|---|---|---|---|")

@@ -292,6 +292,14 @@ impl ExplorerApp {
         Ok(app)
     }
 
+    /// Counts the measurement's time to the first converged picture from `t` (when the scene or
+    /// folder began to load).
+    pub fn measure_from(&mut self, t: Instant) {
+        if let Some(m) = &mut self.measure {
+            m.opened_at(t);
+        }
+    }
+
     /// Switches recording on (a recorder is made for this scene and the newest converged
     /// solution is recorded at once, then every later one) or off (the recording is closed).
     pub fn set_recording(&mut self, on: bool) {

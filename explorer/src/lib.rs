@@ -47,6 +47,7 @@ pub use result_folder::{FolderOpener, OpenedFolder};
 #[cfg(not(target_arch = "wasm32"))]
 pub fn run_native(options: Options) -> anyhow::Result<()> {
     // fail before opening a window if the scene cannot be opened
+    let started = lopin_core::counters::Instant::now();
     let loaded = app::load(&options).map_err(|e| anyhow::anyhow!(e))?;
     let native = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default()
@@ -59,7 +60,8 @@ pub fn run_native(options: Options) -> anyhow::Result<()> {
         "Lopin",
         native,
         Box::new(move |cc| {
-            let app = ExplorerApp::opened(cc, options, loaded)?;
+            let mut app = ExplorerApp::opened(cc, options, loaded)?;
+            app.measure_from(started);
             Ok(Box::new(app))
         }),
     );

@@ -1,5 +1,6 @@
-//! Self-measurement of the explorer (`lopin view SCENE --measure FILE`), as a user who paused
-//! and then moves the friction slider: after the first converged solve the explorer stays idle
+//! Self-measurement of the explorer (`lopin view SCENE_OR_FOLDER --measure FILE`), as a user who
+//! paused and then moves the friction slider: the time from the start of loading (the scene
+//! built, or the folder read) to the first converged picture; after the first converged solve the explorer stays idle
 //! while the background study stores the slider's range (or for at most [`STUDY_MAX_S`]), then
 //! the friction coefficient is set to [`MOVES`] values in turn (alternately a stored grid value
 //! and one between two grid values, which is refined warm from its nearest stored neighbour),
@@ -88,6 +89,11 @@ struct MoveRecord {
 #[derive(Debug, Clone)]
 pub struct Measure {
     path: PathBuf,
+    /// When the scene or folder began to load.
+    opened: Instant,
+    /// From `opened` to the frame that found the first solve converged (or the stored
+    /// configuration shown), s.
+    first_converged_s: Option<f64>,
     phase: Phase,
     settle: usize,
     study_started: Option<Instant>,
@@ -140,6 +146,8 @@ impl Measure {
     pub fn new(path: PathBuf) -> Measure {
         Measure {
             path,
+            opened: Instant::now(),
+            first_converged_s: None,
             phase: Phase::Start,
             settle: SETTLE_FRAMES,
             study_started: None,
@@ -157,6 +165,12 @@ impl Measure {
             background_cpu: Vec::new(),
             idle_cpu: Vec::new(),
         }
+    }
+
+    /// Counts the time to the first converged picture from `t` (when loading began) instead
+    /// of from the measurement's creation.
+    pub fn opened_at(&mut self, t: Instant) {
+        self.opened = t;
     }
 
     /// Records one frame interval (from the start of the previous frame to this one's) under
@@ -253,6 +267,9 @@ impl Measure {
     pub fn next_action(&mut self, s: FrameState) -> Action {
         match self.phase {
             Phase::Start => {
+                if s.converged && self.first_converged_s.is_none() {
+                    self.first_converged_s = Some(self.opened.elapsed().as_secs_f64());
+                }
                 if s.converged && self.settled() {
                     self.phase = Phase::Study;
                     self.study_started = Some(Instant::now());
@@ -330,6 +347,7 @@ impl Measure {
         );
         let report = serde_json::json!({
             "moves": self.moves,
+            "open_to_first_converged_s": self.first_converged_s,
             "study_wait_s": self.study_s,
             "first_picture_s": stats(&pick(first, None)),
             "first_picture_built_s": stats(&pick(|m| m.first_picture_built_s, None)),
