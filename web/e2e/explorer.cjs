@@ -246,6 +246,10 @@ async function main() {
       latency_s: Number(first.latencyS),
     };
     if (first.drawn !== "true") fail("converged, but the page reports no fields drawn");
+    // the address names the scene on screen: a link to it
+    const scene = new URL(page.url()).searchParams.get("scene");
+    if (scene !== first.scene) fail(`the address names scene ${scene}, the page shows ${first.scene}`);
+    report.address = page.url();
     const view = rect(first.view, "3D view");
     // let the converged fields reach the screen
     await page.waitForTimeout(300);

@@ -2,7 +2,8 @@
 //! frame and, whenever the explorer's [`PageReport`] changes, writes it into the page title and
 //! the `data-*` attributes of `#lopin-status`; it also stamps the time of the first frame and of
 //! the first frame with fields (`data-first-frame-ms`, `data-first-fields-ms`, milliseconds
-//! since navigation start) for the page-load benchmark.
+//! since navigation start) for the page-load benchmark. The page address names the scene on
+//! screen (`?scene=NAME`, replaced when the picker opens another), so it is a link to it.
 
 use lopin_explorer::page_report::PageReport;
 use lopin_explorer::{ExplorerApp, Options};
@@ -40,6 +41,8 @@ pub struct PageApp {
     last: Option<PageReport>,
     first_frame: bool,
     first_fields: bool,
+    /// The scene the page address names.
+    addressed: String,
 }
 
 impl PageApp {
@@ -57,10 +60,15 @@ impl PageApp {
             last: None,
             first_frame: false,
             first_fields: false,
+            addressed: String::new(),
         })
     }
 
     fn publish(&mut self) {
+        if self.addressed != self.app.info.name {
+            self.addressed.clone_from(&self.app.info.name);
+            address_scene(&self.addressed);
+        }
         let report = PageReport::of(&self.app);
         if !self.first_frame {
             self.first_frame = true;
@@ -90,6 +98,18 @@ impl eframe::App for PageApp {
     fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
         self.app.frame(ui);
         self.publish();
+    }
+}
+
+/// Replaces the page address's query by `?scene=NAME` (history unchanged: the back button
+/// leaves the page as before).
+fn address_scene(name: &str) {
+    if let Some(history) = web_sys::window().and_then(|w| w.history().ok()) {
+        let _ = history.replace_state_with_url(
+            &wasm_bindgen::JsValue::NULL,
+            "",
+            Some(&format!("?scene={name}")),
+        );
     }
 }
 
