@@ -129,9 +129,8 @@ pub struct ExplorerApp {
     ctx: egui::Context,
 }
 
-/// Opens a scene for the explorer ([`scene::open`]: the whole interval, re-solved warm after
-/// each change), with its options over the scene's `[solver]` table.
-/// A folder (`options.scene` naming a directory) is opened by `options.opener`.
+/// Opens what `options.scene` names: a result folder (a directory, read by `options.opener`)
+/// or a scene ([`load_scene`]).
 pub(crate) fn load(options: &Options) -> Result<Loaded, String> {
     let path = std::path::Path::new(&options.scene);
     if path.is_dir() {
@@ -154,6 +153,8 @@ fn open_folder(options: &Options, path: &std::path::Path) -> Result<Loaded, Stri
     opener.open(path).map(|f| Loaded::Folder(Box::new(f)))
 }
 
+/// Opens a scene for the explorer ([`scene::open`]: the whole interval, re-solved warm after
+/// each change), with its options over the scene's `[solver]` table.
 fn load_scene(options: &Options) -> lopin_core::Result<scene::Opened> {
     let overrides = scene::Overrides {
         solver: scene::spec::SolverSpec {
