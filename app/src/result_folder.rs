@@ -4,12 +4,12 @@
 //! (`study.json`, `run.json`, `study.csv` and `states/config-NNNN.state`). The scene is rebuilt
 //! from run.json and checked to be the one the folder's files belong to (fingerprints); each
 //! configuration's row comes from the folder's records, checked as a resume checks them (a
-//! sweep's record and state, a study row's checksum), and its state is read by the loader when
+//! run's solution, a sweep's record, a study row's checksum), and its state is read by the loader when
 //! the explorer shows it, checked whole (checksum, fingerprint, finite values, the problem's
 //! layout). Every error names the file and the reason.
 
 use std::path::Path;
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 
 use anyhow::{bail, Context};
 use lopin_core::study::Quantities;
@@ -68,9 +68,7 @@ fn open_run(dir: &Path) -> anyhow::Result<OpenedFolder> {
     );
     let scene = record.open_scene()?;
     // the solution checked now: a damaged or foreign file is refused before anything opens
-    let StoredResult::Solution(solution) = read_run_solution(dir, &record, &scene.problem)? else {
-        bail!("{}: not a solution", dir.join(SOLUTION_BIN).display());
-    };
+    let solution = read_run_solution(dir, &record, &scene.problem)?;
     let row = ResultRow {
         name: "run".into(),
         assigned: Vec::new(),
@@ -79,8 +77,14 @@ fn open_run(dir: &Path) -> anyhow::Result<OpenedFolder> {
         converged: solution.converged,
     };
     let folder = dir.to_path_buf();
+    // the first show takes the solution read here; a later one reads the file again
+    let checked = Mutex::new(Some(solution));
     let loader: StateLoader = Arc::new(move |_, problem: &Problem| {
-        read_run_solution(&folder, &record, problem).map_err(|e| format!("{e:#}"))
+        let first = checked.lock().map_or(None, |mut s| s.take());
+        first
+            .map_or_else(|| read_run_solution(&folder, &record, problem), Ok)
+            .map(|s| StoredResult::Solution(Box::new(s)))
+            .map_err(|e| format!("{e:#}"))
     });
     Ok(OpenedFolder {
         path: dir.to_path_buf(),
@@ -101,7 +105,7 @@ fn read_run_solution(
     dir: &Path,
     record: &RunRecord,
     problem: &Problem,
-) -> anyhow::Result<StoredResult> {
+) -> anyhow::Result<lopin_core::Solution> {
     let mut solution = record.read_solution(dir)?;
     let bin = dir.join(SOLUTION_BIN);
     solution
@@ -118,7 +122,7 @@ fn read_run_solution(
     if let Some(o) = &record.result {
         solution.eta_history.clone_from(&o.eta_history);
     }
-    Ok(StoredResult::Solution(Box::new(solution)))
+    Ok(solution)
 }
 
 /// A sweep folder: its finished values, each warm-solved from its stored state when shown.
@@ -133,8 +137,8 @@ fn open_sweep(dir: &Path) -> anyhow::Result<OpenedFolder> {
     let mut values = Vec::new();
     let mut damaged = Vec::new();
     for i in (0..header.values.len()).filter(|&i| store.has_record(i)) {
-        match store.read_value(i, &scene.problem) {
-            Ok((r, _)) => {
+        match store.read_record(i) {
+            Ok(r) => {
                 rows.push(ResultRow {
                     name: format!("value {i}"),
                     assigned: vec![Assigned {

@@ -249,16 +249,7 @@ impl ExplorerApp {
             Some((path, kind, table, _, first)) => {
                 let results = ResultsView::new(path, kind, table, base, first);
                 let params = results.params_of(first);
-                for a in results
-                    .table
-                    .rows
-                    .get(first)
-                    .map_or(&[][..], |r| &r.assigned)
-                {
-                    if a.parameter == lopin_core::Parameter::Friction {
-                        friction_targets.set(a.zone, Some(a.value));
-                    }
-                }
+                results.give_friction(first, &mut friction_targets);
                 let name = results.row_name(first);
                 let solve = SolveView::start_row(worker, params.clone(), first, name);
                 (solve, Some(results), params)
@@ -370,11 +361,7 @@ impl ExplorerApp {
         }
         results.shown = Some(r);
         let params = results.params_of(r);
-        for a in &results.table.rows[r].assigned {
-            if a.parameter == lopin_core::Parameter::Friction {
-                self.friction_targets.set(a.zone, Some(a.value));
-            }
-        }
+        results.give_friction(r, &mut self.friction_targets);
         let name = results.row_name(r);
         let generation = self.solve.show_row(params, r, name);
         let step = self.clock.step();

@@ -39,7 +39,7 @@ pub mod timeline;
 pub mod view3d;
 pub mod worker;
 
-pub use app::{ExplorerApp, Loaded, Options};
+pub use app::{ExplorerApp, Options};
 pub use recorder::{RecordedSolve, RecorderFactory, SolveRecorder};
 pub use result_folder::{FolderOpener, OpenedFolder};
 

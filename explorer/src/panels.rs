@@ -29,10 +29,9 @@ pub fn top_bar(
     info: &SceneInfo,
     solve: &SolveView,
     reproducible: bool,
-    folder: Option<&mut String>,
+    mut folder: Option<&mut String>,
 ) -> Option<Picked> {
     let mut picked = None;
-    let mut folder = folder;
     egui::Panel::top("lopin-top")
         .frame(panel_frame(ui))
         .show(ui, |ui| {

@@ -4,10 +4,11 @@
 //! and a plot of one column against the first parameter (one line per value of the others, the
 //! map of a two-parameter study read as curves). A click on a row shows that configuration.
 
-use crate::params::Params;
+use crate::params::{FrictionTargets, Params};
 use crate::result_folder::{row_params, FolderKind, ResultTable};
 use egui::{Color32, RichText};
 use egui_plot::{Legend, Line, Plot, PlotPoints, Points};
+use lopin_core::Parameter;
 use std::path::PathBuf;
 
 /// Rows drawn before the table scrolls.
@@ -57,6 +58,18 @@ impl ResultsView {
     pub fn params_of(&self, r: usize) -> Params {
         let assigned = self.table.rows.get(r).map_or(&[][..], |r| &r.assigned);
         row_params(&self.base, assigned)
+    }
+
+    /// Gives the friction slider's targets the friction values of row `r` (every contact's or
+    /// each zone's).
+    pub fn give_friction(&self, r: usize, targets: &mut FrictionTargets) {
+        let assigned = self.table.rows.get(r).map_or(&[][..], |r| &r.assigned);
+        for a in assigned
+            .iter()
+            .filter(|a| a.parameter == Parameter::Friction)
+        {
+            targets.set(a.zone, Some(a.value));
+        }
     }
 
     /// What the convergence plot's marker calls row `r`.

@@ -367,18 +367,19 @@ impl Service {
     /// solution as it is, or a warm solve from its stored state; a state that cannot be read is
     /// an error naming its file, and nothing else changes.
     fn begin_row(&mut self, generation: u64, params: Params, row: usize) {
-        let Some(source) = self.rows.clone() else {
+        let Some(source) = &self.rows else {
             self.begin(generation, params);
             return;
         };
-        let Some(assigned) = source.rows.get(row) else {
+        let (Some(assigned), loader) = (source.rows.get(row).cloned(), source.loader.clone())
+        else {
             self.send(Event::Error(format!("the folder has no row {row}")));
             return;
         };
         if self.adopt_stored(generation, &params) {
             return;
         }
-        let stored = match (source.loader)(row, self.solver.problem()) {
+        let stored = match loader(row, self.solver.problem()) {
             Ok(s) => s,
             Err(e) => {
                 self.send(Event::Error(e));
@@ -398,11 +399,10 @@ impl Service {
         }
         match stored {
             StoredResult::Solution(solution) => {
-                let started = Instant::now();
                 let converged = solution.converged;
-                self.show_solution(generation, params, *solution, started);
+                let shown = self.show_solution(generation, params, *solution, Instant::now());
                 if converged {
-                    self.store_current();
+                    self.store_current(shown, None);
                 }
             }
             StoredResult::State(state) => {
@@ -494,14 +494,14 @@ impl Service {
     }
 
     /// Shows a converged `solution` of `params` as the newest solution of `generation`,
-    /// without solving.
+    /// without solving; gives back the fields sent.
     fn show_solution(
         &mut self,
         generation: u64,
         params: Params,
         solution: Solution,
         started: Instant,
-    ) {
+    ) -> Option<Arc<StepFields>> {
         let report = SolveReport {
             generation,
             params: params.clone(),
@@ -524,13 +524,14 @@ impl Service {
         });
         self.iterations = Vec::new();
         self.warm = true;
-        self.serve_fields(self.display_step.get());
+        let shown = self.serve_fields(self.display_step.get());
         self.send(Event::Contact {
             generation,
             histories: Arc::new(c),
         });
         self.send(Event::Finished(Box::new(report)));
         self.record();
+        shown
     }
 
     /// One iteration; for the user's solve, sends its η and, every [`LIVE_PERIOD_S`], the live
@@ -638,30 +639,20 @@ impl Service {
         self.send(Event::Finished(Box::new(report)));
         if converged {
             self.record();
-            if let (Some(c), Some(f)) = (self.current.take(), shown) {
-                if let Some(value) = c.params.friction {
-                    let f = Arc::try_unwrap(f).unwrap_or_else(|f| (*f).clone());
-                    self.store(value, &c.solution, f, false, r.start);
-                }
-                self.current = Some(c);
-            }
+            self.store_current(shown, r.start);
         }
     }
 
-    /// Keeps the newest solution in the library (when the scene has a friction value to key it).
-    fn store_current(&mut self) {
-        let Some(c) = self.current.take() else {
-            return;
-        };
-        if let Some(value) = c.params.friction {
-            let step = self
-                .display_step
-                .get()
-                .min(self.solver.problem().time.steps);
-            let f = fields::compute(&self.solver, &c.solution, step, 0, false);
-            self.store(value, &c.solution, f, false, None);
+    /// Keeps the user's newest solution in the library, with its fields `shown` at the
+    /// displayed step (when the scene has a friction value to key it); it started from `start`.
+    fn store_current(&mut self, shown: Option<Arc<StepFields>>, start: Option<f64>) {
+        if let (Some(c), Some(f)) = (self.current.take(), shown) {
+            if let Some(value) = c.params.friction {
+                let f = Arc::try_unwrap(f).unwrap_or_else(|f| (*f).clone());
+                self.store(value, &c.solution, f, false, start);
+            }
+            self.current = Some(c);
         }
-        self.current = Some(c);
     }
 
     /// Keeps a converged configuration solved for the solver's current parameters, with its

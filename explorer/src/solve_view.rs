@@ -94,13 +94,19 @@ impl SolveView {
     /// Shows row `row` (named `name`) of the opened result folder with its parameters `params`:
     /// the controls take them, a running solve is cancelled. Returns the request's generation.
     pub fn show_row(&mut self, params: Params, row: usize, name: String) -> u64 {
-        self.markers.push((self.convergence.len() as f64, name));
         self.params = params.clone();
-        self.requested = params.clone();
+        self.requested_now(name);
+        self.worker.show_row(params, row)
+    }
+
+    /// The controls' values were requested (marked `what` on the convergence plot): the
+    /// latency clock starts, the last error goes.
+    fn requested_now(&mut self, what: String) {
+        self.markers.push((self.convergence.len() as f64, what));
+        self.requested = self.params.clone();
         self.change_time = Some(Instant::now());
         self.last_latency = None;
         self.error = None;
-        self.worker.show_row(params, row)
     }
 
     /// Lets the solve requested in the previous frame iterate: that frame, which shows the new
@@ -206,14 +212,10 @@ impl SolveView {
             return None;
         }
         let what = self.params.describe_change(&self.requested);
-        self.markers.push((self.convergence.len() as f64, what));
-        self.requested = self.params.clone();
+        self.requested_now(what);
         // held until the next frame: this frame draws the new value's first picture
         let generation = self.worker.solve_held(self.params.clone());
         self.to_release = Some(generation);
-        self.change_time = Some(Instant::now());
-        self.last_latency = None;
-        self.error = None;
         Some(self.worker.generation())
     }
 

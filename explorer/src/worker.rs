@@ -147,23 +147,20 @@ impl Worker {
     /// solution, or a warm solve from its stored state); cancels a running solve. Returns its
     /// generation.
     pub fn show_row(&mut self, params: Params, row: usize) -> u64 {
-        self.generation += 1;
-        self.send(Request::Solve {
-            generation: self.generation,
-            params: Box::new(params),
-            held: false,
-            row: Some(row),
-        });
-        self.generation
+        self.request(params, false, Some(row))
     }
 
     fn request_solve(&mut self, params: Params, held: bool) -> u64 {
+        self.request(params, held, None)
+    }
+
+    fn request(&mut self, params: Params, held: bool, row: Option<usize>) -> u64 {
         self.generation += 1;
         self.send(Request::Solve {
             generation: self.generation,
             params: Box::new(params),
             held,
-            row: None,
+            row,
         });
         self.generation
     }

@@ -344,6 +344,14 @@ impl Store {
         self.dir.join(record_name(i)).exists()
     }
 
+    /// Value `i`'s record, checked as a resume checks it (its state is not read); the error
+    /// names the file and why.
+    pub fn read_record(&self, i: usize) -> Result<ValueRecord, String> {
+        self.check_record(i)
+            .map(|(record, _)| record)
+            .map_err(|(path, reason)| format!("{}: {reason}", path.display()))
+    }
+
     /// Value `i`'s record and its state, checked as a resume checks them; the error names the
     /// file that failed and why.
     pub fn read_value(
@@ -362,6 +370,16 @@ impl Store {
         i: usize,
         problem: &Problem,
     ) -> Result<(ValueRecord, InterfaceState), (PathBuf, String)> {
+        let (record, state_checksum) = self.check_record(i)?;
+        let state = self
+            .states
+            .load(&record.state_file, Some(&state_checksum), problem)
+            .map_err(|u| (u.path, u.reason))?;
+        Ok((record, state))
+    }
+
+    /// The checks of value `i`'s record; gives it back with the checksum of its state file.
+    fn check_record(&self, i: usize) -> Result<(ValueRecord, String), (PathBuf, String)> {
         let path = self.dir.join(record_name(i));
         let fail = |path: &Path, reason: String| (path.to_path_buf(), reason);
         let text =
@@ -389,11 +407,7 @@ impl Store {
             ));
         }
         record.check_finite().map_err(|e| fail(&path, e))?;
-        let state = self
-            .states
-            .load(&record.state_file, Some(&file.state_checksum), problem)
-            .map_err(|u| (u.path, u.reason))?;
-        Ok((record, state))
+        Ok((record, file.state_checksum))
     }
 
     /// Writes a finished value: state first, then the record (the commit point), both bound
