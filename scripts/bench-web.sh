@@ -27,7 +27,8 @@ def row(name, xs, unit):
     xs = sorted(xs)
     print(f"| {name} | {len(xs)} | {statistics.median(xs):.{3 if unit == 's' else 0}f} | "
           f"{xs[0]:.{3 if unit == 's' else 0}f} | {xs[-1]:.{3 if unit == 's' else 0}f} | {unit} |")
-print(f"web explorer, two-blocks, headless Chromium (SwiftShader WebGL2); "
+print(f"web explorer, two-blocks, headless Chromium (SwiftShader WebGL2), solver in its "
+      f"{runs[0].get('solver', '?')}; "
       f".wasm {build['wasm_bytes']} bytes ({build['wasm_gzip_bytes']} gzipped)\n")
 print("| measure | n | median | min | max | unit |")
 print("|---|---|---|---|---|---|")
@@ -38,5 +39,7 @@ row("cold solve iterations", [r["first_solve"]["iterations"] for r in runs], "it
 moves = [m for r in runs for m in r["moves"]]
 row("slider change -> converged warm re-solve (app)", [m["app_latency_s"] for m in moves], "s")
 row("slider click -> converged state in the page", [m["click_to_converged_in_dom_s"] for m in moves], "s")
+row("the solver's wall time of the re-solve (worker)", [m["solver_s"] for m in moves], "s")
+row("of which engine stages (local + linear)", [m["engine_s"] for m in moves], "s")
 row("warm re-solve iterations", [m["iterations"] for m in moves], "it")
 PY

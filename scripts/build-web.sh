@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
 # Builds the explorer for the browser into dist/ (index.html, lopin_web.js, lopin_web_bg.wasm,
+# lopin_worker.js (the solver's Web Worker),
 # build.json with the sizes), installing what it needs first (scripts/web-tools.sh). The wasm
 # build uses Debian's rustc-web toolchain with std built from source, in its own target folder
 # (target/web), so it never disturbs the native build. Serve dist/ with scripts/serve-web.sh.
@@ -11,7 +12,9 @@ TARGET=wasm32-unknown-unknown
 OUT=dist
 echo "web: cargo build --profile web-release -p lopin-web --target $TARGET (Debian rustc-web, build-std)"
 mkdir -p target/web
+# 128-bit SIMD (every current browser runs it): faer's kernels vectorize through pulp
 RUSTC=/usr/bin/rustc RUSTDOC=/usr/bin/rustdoc RUSTC_BOOTSTRAP=1 \
+    RUSTFLAGS="-C target-feature=+simd128" \
     CARGO_UNSTABLE_BUILD_STD=std,panic_abort \
     CARGO_TARGET_WASM32_UNKNOWN_UNKNOWN_LINKER=wasm-ld-22 \
     /usr/bin/cargo build --profile web-release -p lopin-web --target "$TARGET" --target-dir target/web \
@@ -31,10 +34,10 @@ BINDGEN_BYTES=$(stat -c %s "$OUT.tmp/lopin_web_bg.wasm")
 echo "web: wasm-opt -O2"
 node "$WEB_TOOLS/npm/node_modules/binaryen/bin/wasm-opt" -O2 \
     --enable-bulk-memory --enable-nontrapping-float-to-int --enable-sign-ext \
-    --enable-mutable-globals --enable-reference-types --enable-multivalue \
+    --enable-mutable-globals --enable-reference-types --enable-multivalue --enable-simd \
     "$OUT.tmp/lopin_web_bg.wasm" -o "$OUT.tmp/lopin_web_bg.opt.wasm"
 mv "$OUT.tmp/lopin_web_bg.opt.wasm" "$OUT.tmp/lopin_web_bg.wasm"
-cp index.html "$OUT.tmp/"
+cp index.html web/lopin_worker.js "$OUT.tmp/"
 WASM_BYTES=$(stat -c %s "$OUT.tmp/lopin_web_bg.wasm")
 GZIP_BYTES=$(gzip -9 -c "$OUT.tmp/lopin_web_bg.wasm" | wc -c)
 JS_BYTES=$(stat -c %s "$OUT.tmp/lopin_web.js")

@@ -18,10 +18,12 @@ use crate::measure::{Action, FrameState, Measure};
 use crate::params::{FrictionTargets, Params};
 use crate::recorder::RecorderFactory;
 use crate::recording::Recording;
+use crate::remote::Connector;
 use crate::result_folder::{FolderOpener, OpenedFolder, RowSource};
 use crate::results_panel::ResultsView;
 use crate::solve_view::SolveView;
 use crate::study_view::{Compare, StudyView};
+use crate::wire::Start;
 use crate::worker::Worker;
 use lopin_core::counters::Instant;
 use lopin_core::scene;
@@ -46,6 +48,9 @@ pub struct Options {
     /// Opens result folders (`scene` naming a folder, or the "open" field of the top bar);
     /// None: folders cannot be opened (the browser).
     pub opener: Option<FolderOpener>,
+    /// Starts the solver behind a byte link (the browser's Web Worker) for scenes; None: a
+    /// solver thread on the desktop, the page's own frames in a browser.
+    pub connector: Option<Connector>,
 }
 
 impl Options {
@@ -59,6 +64,7 @@ impl Options {
             record: false,
             two_scale: None,
             opener: None,
+            connector: None,
         }
     }
 }
@@ -155,7 +161,7 @@ fn open_folder(options: &Options, path: &std::path::Path) -> Result<Loaded, Stri
 
 /// Opens a scene for the explorer ([`scene::open`]: the whole interval, re-solved warm after
 /// each change), with its options over the scene's `[solver]` table.
-fn load_scene(options: &Options) -> lopin_core::Result<scene::Opened> {
+pub(crate) fn load_scene(options: &Options) -> lopin_core::Result<scene::Opened> {
     let overrides = scene::Overrides {
         solver: scene::spec::SolverSpec {
             two_scale: options.two_scale,
@@ -235,14 +241,29 @@ impl ExplorerApp {
             rows: table.rows.iter().map(|r| r.assigned.clone()).collect(),
             loader: loader.clone(),
         });
-        let worker = Worker::spawn_with_rows(
-            problem,
-            settings,
-            Arc::new(move || wake_ctx.request_repaint()),
-            recording.slot(),
-            rows,
-        )
-        .map_err(|e| e.to_string())?;
+        let wake: Arc<dyn Fn() + Send + Sync> = Arc::new(move || wake_ctx.request_repaint());
+        let remote = match (&options.connector, &rows) {
+            (Some(connector), None) => {
+                let start = Start {
+                    scene: options.scene.clone(),
+                    two_scale: options.two_scale,
+                };
+                let ctx = ctx.clone();
+                let wake: crate::remote::Wake = Arc::new(move |within| match within {
+                    Some(d) => ctx.request_repaint_after(d),
+                    None => ctx.request_repaint(),
+                });
+                // without a solver side (a page that cannot start workers), the solver runs
+                // in the UI's frames
+                Worker::spawn_remote(start, wake, connector).ok()
+            }
+            _ => None,
+        };
+        let worker = match remote {
+            Some(w) => w,
+            None => Worker::spawn_with_rows(problem, settings, wake, recording.slot(), rows)
+                .map_err(|e| e.to_string())?,
+        };
         let clock = Clock::new(info.steps, info.dt, worker.display_step());
         let (solve, results, params) = match folder {
             None => (SolveView::start(worker, base.clone()), None, base),

@@ -11,7 +11,7 @@ use lopin_core::shock_spectrum;
 use lopin_core::{Solution, Solver};
 
 /// Fields of one substructure at one step.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SubStepFields {
     /// Nodal displacements (node-major), m.
     pub u: Vec<f64>,
@@ -22,7 +22,7 @@ pub struct SubStepFields {
 }
 
 /// Fields of every substructure at one step.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct StepFields {
     /// Generation of the solution (or live iterate) they come from.
     pub generation: u64,

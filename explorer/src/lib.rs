@@ -1,7 +1,7 @@
 //! Lopin explorer: an egui/eframe application that shows the substructures of a scene in 3D
 //! coloured by von Mises stress, velocity or contact quantities, with a section plane, a time
 //! scrubber, probes, and parameter sliders whose every move launches a warm-started LATIN
-//! re-solve (METHOD §8) in a background thread (a few iterations per frame in the browser), streamed live into the view with a live
+//! re-solve (METHOD §8) in a background thread (a Web Worker in the browser), streamed live into the view with a live
 //! convergence plot of η (METHOD §7); while the user is idle, a background study solves the
 //! friction slider's range and keeps every converged configuration, so a slider move shows the
 //! nearest stored picture at once, and a pinned value is compared with the current one as a
@@ -26,6 +26,7 @@ pub mod protocol;
 pub mod quantity;
 pub mod recorder;
 pub mod recording;
+pub mod remote;
 pub mod render;
 pub mod result_folder;
 pub mod results_panel;
@@ -37,10 +38,12 @@ pub mod study_panel;
 pub mod study_view;
 pub mod timeline;
 pub mod view3d;
+pub mod wire;
 pub mod worker;
 
 pub use app::{ExplorerApp, Options};
 pub use recorder::{RecordedSolve, RecorderFactory, SolveRecorder};
+pub use remote::Connector;
 pub use result_folder::{FolderOpener, OpenedFolder};
 
 /// Opens the explorer in a native window (wgpu renderer) and returns when it is closed.

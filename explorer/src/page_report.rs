@@ -2,7 +2,8 @@
 //! the timing benchmark) can follow it without reading pixels: solver state, the newest solve's
 //! parameters, iterations, η and latency, the displayed step and view options, and where the
 //! controls a script clicks (friction and time slider rails, section and exploded checkboxes,
-//! "pin A" and "side by side") and the viewports (one, or two side by side) are drawn. The
+//! "pin A" and "side by side") and the viewports (one, or two side by side) are drawn, and
+//! where the solver runs. The
 //! web crate writes it into the page title and the `data-*` attributes of `#lopin-status`;
 //! it is plain data, so the desktop tests check it too.
 
@@ -28,6 +29,10 @@ pub struct PageReport {
     pub warm: bool,
     /// Seconds from the newest parameter change to its converged solve.
     pub latency_s: Option<f64>,
+    /// Seconds the solver took for the newest finished solve (its side's wall time).
+    pub solve_s: Option<f64>,
+    /// Seconds in the engine's local and linear stages so far, over every solve of the scene.
+    pub engine_s: Option<f64>,
     /// Whether the 3D view has fields to draw.
     pub drawn: bool,
     /// Displayed time step.
@@ -50,6 +55,9 @@ pub struct PageReport {
     pub beside: Option<[f32; 4]>,
     /// Whether the pinned configuration's picture is drawn in it.
     pub beside_drawn: bool,
+    /// Where the solver runs: "worker" (a Web Worker, [`crate::remote`]), "thread" (a solver
+    /// thread) or "page" (the page's frames).
+    pub solver: &'static str,
     /// The failure message, if any.
     pub error: Option<String>,
 }
@@ -82,6 +90,14 @@ impl PageReport {
             eta,
             warm,
             latency_s: solve.last_latency(),
+            solve_s: match solve.status() {
+                SolveStatus::Done(r) => Some(r.solve_s),
+                _ => None,
+            },
+            engine_s: match solve.status() {
+                SolveStatus::Done(r) => Some(r.stages.local + r.stages.linear),
+                _ => None,
+            },
             drawn: shown.is_some(),
             step: app.clock.step(),
             shown_step: shown.map(|f| (f.step, f.live)),
@@ -97,6 +113,13 @@ impl PageReport {
             pinned: app.study.pinned,
             beside: app.layout.beside_rect().map(rect4),
             beside_drawn: app.layout.beside_rect().is_some() && app.layout.beside().is_some(),
+            solver: if solve.remote() {
+                "worker"
+            } else if cfg!(target_arch = "wasm32") {
+                "page"
+            } else {
+                "thread"
+            },
             error,
         }
     }
@@ -140,6 +163,8 @@ impl PageReport {
             ("data-eta", format!("{:e}", self.eta)),
             ("data-warm", self.warm.to_string()),
             ("data-latency-s", opt(self.latency_s)),
+            ("data-solve-s", opt(self.solve_s)),
+            ("data-engine-s", opt(self.engine_s)),
             ("data-drawn", self.drawn.to_string()),
             ("data-step", self.step.to_string()),
             (
@@ -159,6 +184,7 @@ impl PageReport {
             ("data-beside", list4(self.beside)),
             ("data-beside-drawn", self.beside_drawn.to_string()),
             ("data-controls", self.controls_json()),
+            ("data-solver", self.solver.to_string()),
             ("data-error", self.error.clone().unwrap_or_default()),
         ]
     }

@@ -12,7 +12,7 @@ use lopin_core::{Parameter, Problem, Settings, Solver};
 use std::sync::Arc;
 
 /// One set of parameter values.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Params {
     /// Friction coefficient of the contact interfaces the friction slider moves: every one, or
     /// those of zone `friction_zone` (None: the scene has no contact).
@@ -35,6 +35,7 @@ pub struct Params {
     pub duration: Option<f64>,
     /// The solver settings; the panel moves k, μ, the tolerance, the macro switch, ρ∞ and the
     /// shape of the search direction.
+    #[serde(with = "crate::wire::as_json")]
     pub settings: Settings,
 }
 

@@ -8,7 +8,7 @@ use crate::fields::{StepFields, SubStepFields};
 use lopin_core::post::ContactHistory;
 
 /// Nodal fields of one substructure, f32.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 struct SubPicture {
     u: Vec<f32>,
     v: Vec<f32>,
@@ -16,7 +16,7 @@ struct SubPicture {
 }
 
 /// One contact interface's history, f32; tables flattened step-major (`nodes` per step).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 struct ContactPicture {
     interface: usize,
     nodes: usize,
@@ -27,7 +27,7 @@ struct ContactPicture {
 }
 
 /// The picture of one configuration at one time step.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Picture {
     /// The time step of the nodal fields.
     pub step: usize,

@@ -16,7 +16,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
 
 /// A request from the UI.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub(crate) enum Request {
     /// Solve (warm) with these parameters; cancels a running solve. A held solve begins only
     /// on [`Request::Release`] of its generation: the UI releases it when the next frame
@@ -44,7 +44,7 @@ pub(crate) enum Request {
 }
 
 /// How the background study runs.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct StudyControl {
     /// No background solve while paused.
     pub paused: bool,
@@ -68,7 +68,7 @@ impl Default for StudyControl {
 
 /// A converged configuration the solver side stored (a background solve, a user's re-solve, or
 /// a new picture of a stored one at another time step).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct StoredConfig {
     /// Friction coefficient.
     pub value: f64,
@@ -90,7 +90,7 @@ pub struct StoredConfig {
 }
 
 /// How a solve ended.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SolveReport {
     /// Generation of the parameter change that started it.
     pub generation: u64,
@@ -121,7 +121,7 @@ pub struct SolveReport {
 }
 
 /// Velocity and von Mises history of one node (the probe).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ProbeHistory {
     /// Generation of the solution it comes from.
     pub generation: u64,
@@ -141,7 +141,7 @@ pub struct ProbeHistory {
 }
 
 /// What the solver side tells the UI.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub enum Event {
     /// One LATIN iteration done.
     Progress {

@@ -31,7 +31,8 @@ use std::sync::mpsc::Sender;
 use std::sync::Arc;
 use std::time::Duration;
 
-/// Seconds between two live field updates while a solve runs.
+/// Seconds between two live field updates while a solve runs (unless set otherwise,
+/// [`Service::set_live_period`]).
 const LIVE_PERIOD_S: f64 = 0.12;
 
 /// Who asked for a solve.
@@ -90,6 +91,8 @@ pub(crate) struct Service {
     held: Option<(u64, Params)>,
     /// The rows of the opened result folder and their loader.
     rows: Option<RowSource>,
+    /// Seconds between two live field updates while a solve runs.
+    live_period_s: f64,
 }
 
 impl Service {
@@ -122,6 +125,7 @@ impl Service {
                 last_change: Instant::now(),
                 held: None,
                 rows,
+                live_period_s: LIVE_PERIOD_S,
             }),
             Err(e) => {
                 let _ = events.send(Event::Error(format!("{e}")));
@@ -129,6 +133,12 @@ impl Service {
                 None
             }
         }
+    }
+
+    /// Sets how often a running solve's live fields are computed: a UI that draws them
+    /// seldom spares the solver the work.
+    pub(crate) fn set_live_period(&mut self, period: Duration) {
+        self.live_period_s = period.as_secs_f64();
     }
 
     fn send(&self, e: Event) {
@@ -534,7 +544,7 @@ impl Service {
         shown
     }
 
-    /// One iteration; for the user's solve, sends its η and, every [`LIVE_PERIOD_S`], the live
+    /// One iteration; for the user's solve, sends its η and, every live period, the live
     /// fields at the shown step (the background study sends nothing until it converges).
     /// Returns whether the solve has ended.
     fn iterate(&mut self, r: &mut Running) -> bool {
@@ -547,13 +557,14 @@ impl Service {
             });
         };
         let (iterations, last_live) = (&mut r.iterations, &mut r.last_live);
+        let period = self.live_period_s;
         let done = self.solver.step(&mut r.run, &mut |it| {
             iterations.push(*it.record);
             let _ = events.send(Event::Progress {
                 generation,
                 eta: it.record.eta,
             });
-            if last_live.elapsed().as_secs_f64() >= LIVE_PERIOD_S {
+            if last_live.elapsed().as_secs_f64() >= period {
                 *last_live = Instant::now();
                 let snap = it.snapshot();
                 let step = display.get();

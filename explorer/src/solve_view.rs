@@ -199,6 +199,11 @@ impl SolveView {
             .map_or(0, |r| r.generation)
     }
 
+    /// Whether the solver runs behind a byte link (the browser's Web Worker).
+    pub fn remote(&self) -> bool {
+        self.worker.is_remote()
+    }
+
     /// Whether the solver runs on the UI thread (browser) and needs another frame to go on.
     pub fn needs_frames(&self) -> bool {
         self.worker.needs_frames()
@@ -213,6 +218,10 @@ impl SolveView {
         }
         let what = self.params.describe_change(&self.requested);
         self.requested_now(what);
+        if self.worker.is_remote() {
+            // a solver with its own thread in the browser begins at once
+            return Some(self.worker.solve(self.params.clone()));
+        }
         // held until the next frame: this frame draws the new value's first picture
         let generation = self.worker.solve_held(self.params.clone());
         self.to_release = Some(generation);

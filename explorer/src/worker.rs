@@ -4,13 +4,17 @@
 //! [`crate::service::Service`]: on the desktop it runs on its own thread; in the browser (no
 //! threads) [`Worker::poll`] advances it for a few milliseconds per frame, one LATIN iteration
 //! at a time, so the page stays responsive while a re-solve converges (and, when the user is
-//! idle, while the background study solves). The messages are those of [`crate::protocol`].
+//! idle, while the background study solves), or, better, [`Worker::spawn_remote`] runs it in a
+//! Web Worker behind a byte link ([`crate::remote`]), where iterations run back to back
+//! whatever the frame rate. The messages are those of [`crate::protocol`].
 
 use crate::params::Params;
 use crate::protocol::{DisplayStep, Event, Request, StudyControl};
 use crate::recorder::RecorderSlot;
+use crate::remote::{Connector, Inbox, Port, Wake};
 use crate::result_folder::RowSource;
 use crate::service::Service;
+use crate::wire::{self, Start, ToSolver};
 use lopin_core::counters::Instant;
 use lopin_core::Problem;
 use std::sync::mpsc::{channel, Receiver};
@@ -31,7 +35,10 @@ enum Link {
     /// A solver thread (desktop).
     #[cfg(not(target_arch = "wasm32"))]
     Thread(std::sync::mpsc::Sender<Request>),
-    /// The service itself, advanced from [`Worker::poll`] (browser).
+    /// A solver side behind a byte link (the browser's Web Worker), with the displayed step
+    /// it was last told.
+    Remote { port: Box<dyn Port>, shown: usize },
+    /// The service itself, advanced from [`Worker::poll`] (browser without a Web Worker).
     Inline {
         service: Option<Box<Service>>,
         queue: Vec<Request>,
@@ -90,6 +97,28 @@ impl Worker {
         Self::with_link(problem, settings, wake, recorder, None, inline_link)
     }
 
+    /// The worker whose solver side runs behind a byte link that `connector` makes (in the
+    /// browser, a Web Worker): the solver side opens `start`'s scene itself and factorizes
+    /// there, so the UI never waits for it; a failure arrives as [`Event::Error`]. `wake` is
+    /// called after each event, with a delay for a running solve's progress.
+    pub fn spawn_remote(start: Start, wake: Wake, connector: &Connector) -> Result<Worker, String> {
+        let (events, erx) = channel();
+        let mut port = connector.connect(Inbox::new(events, wake))?;
+        port.post(wire::encode_to_solver(&ToSolver::Start(start)));
+        Ok(Worker {
+            events: erx,
+            pending: Default::default(),
+            display_step: DisplayStep::default(),
+            generation: 0,
+            link: Link::Remote { port, shown: 0 },
+        })
+    }
+
+    /// Whether the solver runs behind a byte link ([`Worker::spawn_remote`]).
+    pub fn is_remote(&self) -> bool {
+        matches!(self.link, Link::Remote { .. })
+    }
+
     /// The worker whose service `link` starts (where it runs is the link's choice).
     fn with_link(
         problem: Problem,
@@ -116,12 +145,26 @@ impl Worker {
     }
 
     fn send(&mut self, c: Request) {
+        self.tell_display_step();
         match &mut self.link {
             #[cfg(not(target_arch = "wasm32"))]
             Link::Thread(tx) => {
                 let _ = tx.send(c);
             }
+            Link::Remote { port, .. } => port.post(wire::encode_to_solver(&ToSolver::Request(c))),
             Link::Inline { queue, .. } => queue.push(c),
+        }
+    }
+
+    /// Tells a solver side behind a byte link where the displayed step moved (the other links
+    /// share it).
+    fn tell_display_step(&mut self) {
+        if let Link::Remote { port, shown } = &mut self.link {
+            let step = self.display_step.get();
+            if *shown != step {
+                *shown = step;
+                port.post(wire::encode_to_solver(&ToSolver::DisplayStep(step)));
+            }
         }
     }
 
@@ -200,7 +243,6 @@ impl Worker {
     /// time per frame as drawing and the UI took (half the frame), between [`INLINE_BUDGET_MS`]
     /// and [`INLINE_BUDGET_MAX_MS`]. With fast drawing the page keeps its frame rate; with slow
     /// (software) drawing the solver does not wait a whole frame per iteration.
-    #[cfg_attr(target_arch = "wasm32", allow(irrefutable_let_patterns))] // only Inline there
     pub fn set_frame_interval(&mut self, seconds: f64) {
         if let Link::Inline {
             budget_ms,
@@ -217,6 +259,7 @@ impl Worker {
     /// first advances it for its budget (at least [`INLINE_BUDGET_MS`]; see
     /// [`Worker::set_frame_interval`]).
     pub fn poll(&mut self) -> Vec<Event> {
+        self.tell_display_step();
         if let Link::Inline {
             service: Some(service),
             queue,

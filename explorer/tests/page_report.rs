@@ -2,16 +2,41 @@
 //! web crate): converged solve, iterations, η, warm flag and latency, and the friction slider's
 //! rail, which a click must hit: clicking at 3/4 of the reported rail moves f to about 3/4 of
 //! its 0..1 range and launches a warm re-solve (what the browser test does with a real mouse).
+//! The same with the solver behind the browser's byte link (`remote::thread_connector`): the
+//! page reports its solver in its worker, and slider, section and time work as on a thread.
 
 mod common;
 
 use lopin_explorer::page_report::PageReport;
+use lopin_explorer::remote::thread_connector;
+use lopin_explorer::Options;
 
 #[test]
 fn the_page_report_follows_solves_and_locates_the_friction_slider() {
-    let mut h = common::harness("two-blocks");
+    follows_solves(common::harness("two-blocks"), "thread");
+}
+
+#[test]
+fn the_page_report_follows_solves_over_the_worker_link() {
+    let options = Options {
+        reproducible: true,
+        connector: Some(thread_connector()),
+        ..Options::scene("two-blocks")
+    };
+    follows_solves(common::harness_with(options), "worker");
+}
+
+fn follows_solves(
+    mut h: egui_kittest::Harness<'static, lopin_explorer::ExplorerApp>,
+    solver: &str,
+) {
     common::settle(&mut h);
     let r = PageReport::of(h.state());
+    assert_eq!(r.solver, solver);
+    assert!(
+        r.solve_s.is_some_and(|s| s > 0.0) && r.engine_s.is_some_and(|s| s > 0.0),
+        "{r:?}"
+    );
     assert_eq!(r.state, "converged", "{r:?}");
     assert_eq!(r.scene, "two-blocks");
     assert_eq!(r.generation, 1);
@@ -89,7 +114,9 @@ fn the_page_report_follows_solves_and_locates_the_friction_slider() {
         r4.step
     );
     assert_eq!(r4.shown_step, Some((r4.step, false)));
+    assert_eq!(r4.solver, solver);
     let attrs = r4.attributes();
+    assert!(attrs.contains(&("data-solver", solver.to_string())));
     assert!(attrs.contains(&("data-step", r4.step.to_string())));
     assert!(attrs.contains(&("data-section", "true".to_string())));
 }

@@ -1,14 +1,17 @@
 //! The explorer's background re-solve: a parameter change gives a converged warm re-solve equal
 //! to a cold solve at the new value within the tolerance bound, and a change during a re-solve
-//! cancels it (METHOD §8). Both ways of running the solver are checked: the desktop's solver
-//! thread and the browser's inline mode (a few iterations per poll), which must give the same
-//! iterates bit for bit.
+//! cancels it (METHOD §8). Every way of running the solver is checked: the desktop's solver
+//! thread, the browser's inline mode (a few iterations per poll) and the browser's worker link
+//! (every message crossing as bytes, here over a thread), which must give the same iterates bit
+//! for bit.
 
 use lopin_core::interfaces::search_direction::Directions;
 use lopin_core::{post, scene, Parameter, Settings, Solver};
 use lopin_explorer::fields::StepFields;
 use lopin_explorer::params::{FrictionTargets, Params};
 use lopin_explorer::protocol::{Event, SolveReport};
+use lopin_explorer::remote::thread_connector;
+use lopin_explorer::wire::Start;
 use lopin_explorer::worker::Worker;
 use std::sync::Arc;
 use std::time::Duration;
@@ -43,6 +46,16 @@ fn inline(problem: lopin_core::Problem, settings: Settings) -> Worker {
     Worker::spawn_inline(problem, settings, Arc::new(|| {}), Default::default()).expect("worker")
 }
 
+/// The browser's worker link, over a thread: the solver side opens two-blocks itself (the
+/// problem given is the UI side's copy).
+fn linked(_: lopin_core::Problem, _: Settings) -> Worker {
+    let start = Start {
+        scene: "two-blocks".into(),
+        two_scale: None,
+    };
+    Worker::spawn_remote(start, Arc::new(|_| {}), &thread_connector()).expect("worker link")
+}
+
 type Spawn = fn(lopin_core::Problem, Settings) -> Worker;
 
 fn max_abs(v: &[f64]) -> f64 {
@@ -57,6 +70,11 @@ fn a_slider_change_converges_warm_to_the_cold_solution() {
 #[test]
 fn inline_a_slider_change_converges_warm_to_the_cold_solution() {
     slider_change_converges_warm(inline);
+}
+
+#[test]
+fn linked_a_slider_change_converges_warm_to_the_cold_solution() {
+    slider_change_converges_warm(linked);
 }
 
 fn slider_change_converges_warm(spawn: Spawn) {
@@ -133,6 +151,11 @@ fn inline_a_change_during_a_re_solve_cancels_it() {
     change_during_re_solve_cancels(inline);
 }
 
+#[test]
+fn linked_a_change_during_a_re_solve_cancels_it() {
+    change_during_re_solve_cancels(linked);
+}
+
 fn change_during_re_solve_cancels(spawn: Spawn) {
     let (problem, settings) = two_blocks();
     let mut worker = spawn(problem.clone(), settings);
@@ -168,10 +191,12 @@ fn change_during_re_solve_cancels(spawn: Spawn) {
     assert!(fields.iter().any(|f| f.generation == g2));
 }
 
-/// Reports and converged fields of a cold solve then two warm re-solves.
+/// Reports and converged fields of a cold solve then two warm re-solves, with the displayed
+/// step at 30.
 fn session(spawn: Spawn) -> (Vec<SolveReport>, Vec<Arc<StepFields>>) {
     let (problem, settings) = two_blocks();
     let mut worker = spawn(problem.clone(), settings);
+    worker.set_display_step(30);
     let mut params = Params::of(&problem, &settings);
     let mut reports = Vec::new();
     let mut fields = Vec::new();
@@ -187,8 +212,21 @@ fn session(spawn: Spawn) -> (Vec<SolveReport>, Vec<Arc<StepFields>>) {
 
 #[test]
 fn the_browser_s_inline_worker_gives_the_thread_s_iterates_bit_for_bit() {
+    same_iterates(inline);
+}
+
+#[test]
+fn the_browser_s_worker_link_gives_the_thread_s_iterates_bit_for_bit() {
+    same_iterates(linked);
+}
+
+fn same_iterates(spawn: Spawn) {
     let (thread_reports, thread_fields) = session(threaded);
-    let (inline_reports, inline_fields) = session(inline);
+    let (inline_reports, inline_fields) = session(spawn);
+    assert!(
+        thread_fields.iter().all(|f| f.step == 30),
+        "fields at the displayed step"
+    );
     assert_eq!(thread_reports.len(), 3);
     for (t, i) in thread_reports.iter().zip(&inline_reports) {
         assert!(t.converged && i.converged, "{t:?} {i:?}");

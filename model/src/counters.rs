@@ -33,7 +33,7 @@ pub struct IterationRecord {
 }
 
 /// Totals per stage, in seconds.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct StageTimes {
     /// Assembly and factorization.
     pub setup: f64,

@@ -38,7 +38,7 @@ impl EnergyHistory {
 }
 
 /// Contact quantities of one contact interface over time, from ŝ (METHOD §5).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ContactHistory {
     /// Interface index.
     pub interface: usize,

@@ -244,8 +244,13 @@ async function main() {
       iterations: Number(first.iterations),
       eta: Number(first.eta),
       latency_s: Number(first.latencyS),
+      solver_s: Number(first.solveS),
+      engine_s: Number(first.engineS),
     };
     if (first.drawn !== "true") fail("converged, but the page reports no fields drawn");
+    // the solver runs in its Web Worker (the page's frames only draw)
+    report.solver = first.solver;
+    if (first.solver !== "worker") fail(`the solver runs in the ${first.solver}, not in its worker`);
     // the address names the scene on screen: a link to it
     const scene = new URL(page.url()).searchParams.get("scene");
     if (scene !== first.scene) fail(`the address names scene ${scene}, the page shows ${first.scene}`);
@@ -278,12 +283,15 @@ async function main() {
         fail(`the slider click at ${frac} of the rail moved f from ${f0} to ${f1} only`);
       }
       if (st.warm !== "true") fail(`re-solve ${st.generation} did not start warm`);
+      if (st.solver !== "worker") fail(`re-solve ${st.generation} ran in the ${st.solver}`);
       report.moves.push({
         friction_from: f0,
         friction_to: f1,
         iterations: Number(st.iterations),
         eta: Number(st.eta),
         app_latency_s: Number(st.latencyS),
+        solver_s: Number(st.solveS),
+        engine_s: Number(st.engineS),
         click_to_converged_in_dom_s: (st.now - t0) / 1000,
       });
       last = st;

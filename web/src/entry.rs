@@ -11,6 +11,10 @@ const DEFAULT_SCENE: &str = "two-blocks";
 /// Called by index.html once the module is loaded.
 #[wasm_bindgen(start)]
 pub fn start() {
+    // the module also starts in the solver's worker, which has no page to draw
+    if web_sys::window().is_none() {
+        return;
+    }
     wasm_bindgen_futures::spawn_local(async {
         if let Err(e) = run().await {
             crate::page::show_failure(&e);

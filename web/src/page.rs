@@ -54,7 +54,11 @@ impl PageApp {
         // the desktop explorer's look, whatever the browser's colour scheme
         cc.egui_ctx.set_theme(egui::Theme::Dark);
         cc.egui_ctx.set_fonts(fonts());
-        let app = ExplorerApp::new(cc, Options::scene(scene))?;
+        let options = Options {
+            connector: Some(crate::solver_worker::connector()),
+            ..Options::scene(scene)
+        };
+        let app = ExplorerApp::new(cc, options)?;
         Ok(PageApp {
             app,
             last: None,

@@ -81,6 +81,7 @@ pub fn view(args: &ViewArgs) -> anyhow::Result<std::process::ExitCode> {
         record: args.record,
         two_scale: args.two_scale.map(|s| s == super::setup::Switch::On),
         opener: Some(crate::result_folder::opener()),
+        connector: None,
     })?;
     Ok(std::process::ExitCode::SUCCESS)
 }

@@ -16,7 +16,7 @@ pub fn harness(scene: &str) -> Harness<'static, ExplorerApp> {
 }
 
 /// A harness with these options.
-#[allow(dead_code)] // used by the recording tests only
+#[allow(dead_code)] // not every test file uses it
 pub fn harness_with(options: Options) -> Harness<'static, ExplorerApp> {
     Harness::builder()
         .with_size(egui::vec2(1400.0, 860.0))
