@@ -17,7 +17,7 @@ rm -rf "$OUT"
 mkdir -p "$OUT"
 serve_dist "$OUT/server.log"
 for i in $(seq "${LOADS:-3}"); do
-    node web/e2e/explorer.cjs "http://127.0.0.1:$PORT/" "$OUT/load-$i" "${MOVES:-8}" >/dev/null
+    node web/e2e/explorer.cjs "http://127.0.0.1:$PORT/${WEB_QUERY:-}" "$OUT/load-$i" "${MOVES:-8}" >/dev/null
 done
 python3 - "$OUT" <<'PY'
 import glob, json, statistics, sys
@@ -36,6 +36,9 @@ row("page load -> first frame", [r["first_frame_ms"] for r in runs], "ms")
 row("page load -> first fields drawn", [r["first_fields_ms"] for r in runs], "ms")
 row("page load -> first converged solve (cold)", [r["first_converged_ms"] for r in runs], "ms")
 row("cold solve iterations", [r["first_solve"]["iterations"] for r in runs], "it")
+row("first solve: the solver's setup (build, factorize)", [r["first_solve"]["setup_s"] for r in runs], "s")
+row("first solve: the solver's wall time", [r["first_solve"]["solver_s"] for r in runs], "s")
+row("first solve: of which engine stages", [r["first_solve"]["engine_s"] for r in runs], "s")
 moves = [m for r in runs for m in r["moves"]]
 row("slider change -> converged warm re-solve (app)", [m["app_latency_s"] for m in moves], "s")
 row("slider click -> converged state in the page", [m["click_to_converged_in_dom_s"] for m in moves], "s")

@@ -31,8 +31,10 @@ pub struct PageReport {
     pub latency_s: Option<f64>,
     /// Seconds the solver took for the newest finished solve (its side's wall time).
     pub solve_s: Option<f64>,
-    /// Seconds in the engine's local and linear stages so far, over every solve of the scene.
+    /// Seconds in the engine's local and linear stages of the newest finished solve.
     pub engine_s: Option<f64>,
+    /// Seconds the solver side spent building and factorizing the scene's operators.
+    pub setup_s: Option<f64>,
     /// Whether the 3D view has fields to draw.
     pub drawn: bool,
     /// Displayed time step.
@@ -96,6 +98,10 @@ impl PageReport {
             },
             engine_s: match solve.status() {
                 SolveStatus::Done(r) => Some(r.stages.local + r.stages.linear),
+                _ => None,
+            },
+            setup_s: match solve.status() {
+                SolveStatus::Done(r) => Some(r.stages.setup),
                 _ => None,
             },
             drawn: shown.is_some(),
@@ -165,6 +171,7 @@ impl PageReport {
             ("data-latency-s", opt(self.latency_s)),
             ("data-solve-s", opt(self.solve_s)),
             ("data-engine-s", opt(self.engine_s)),
+            ("data-setup-s", opt(self.setup_s)),
             ("data-drawn", self.drawn.to_string()),
             ("data-step", self.step.to_string()),
             (

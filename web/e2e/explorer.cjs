@@ -246,6 +246,7 @@ async function main() {
       latency_s: Number(first.latencyS),
       solver_s: Number(first.solveS),
       engine_s: Number(first.engineS),
+      setup_s: Number(first.setupS),
     };
     if (first.drawn !== "true") fail("converged, but the page reports no fields drawn");
     // the solver runs in its Web Worker (the page's frames only draw)
