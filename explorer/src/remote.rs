@@ -112,6 +112,8 @@ pub enum Next {
 /// The solver side: the service, the requests not served yet, and where its events go.
 pub struct Host {
     service: Option<Service>,
+    /// The scene the service holds.
+    started: Option<Start>,
     queue: Vec<Request>,
     events: Receiver<Event>,
     display_step: DisplayStep,
@@ -125,6 +127,7 @@ impl Host {
         let (_, events) = channel();
         Host {
             service: None,
+            started: None,
             queue: Vec::new(),
             events,
             display_step: DisplayStep::default(),
@@ -143,8 +146,15 @@ impl Host {
         self.flush();
     }
 
-    /// Opens the scene and factorizes; a failure is posted as [`Event::Error`].
+    /// Opens the scene and factorizes; a failure is posted as [`Event::Error`]. The scene it
+    /// holds already is not opened again (a page may send its start early, while it starts,
+    /// and again when its explorer starts).
     fn start(&mut self, start: &Start) {
+        if self.service.is_some() && self.started.as_ref() == Some(start) {
+            return;
+        }
+        self.started = Some(start.clone());
+        self.queue.clear();
         let options = Options {
             two_scale: start.two_scale,
             ..Options::scene(&start.scene)

@@ -65,6 +65,12 @@ pub(crate) fn decode_to_solver(bytes: &[u8]) -> Result<ToSolver, WireError> {
     decode(bytes)
 }
 
+/// The first message to a solver side, as bytes (what [`crate::worker::Worker::spawn_remote`]
+/// sends; a page may send it earlier, while it starts).
+pub fn encode_start(start: &Start) -> Vec<u8> {
+    encode(&ToSolver::Start(start.clone()))
+}
+
 /// An event as bytes.
 pub fn encode_event(event: &Event) -> Vec<u8> {
     encode(event)

@@ -1,13 +1,14 @@
 //! The browser's worker link as bytes: every event the solver side sends comes back equal
 //! from its encoding (fields, contact histories, reports, stored pictures), damaged bytes
 //! become a clear error on either side instead of a panic, a scene the solver side cannot
-//! open is reported by name, and a folder's worth of events stays compact (a field message is
-//! its floats plus a few bytes). The solves over the link are checked in `resolve.rs`.
+//! open is reported by name, a field message is its floats plus a few bytes, and a start sent
+//! again (a page starts its worker early) keeps the open scene. The solves over the link are checked in `resolve.rs`.
 
 use lopin_explorer::protocol::Event;
-use lopin_explorer::remote::{thread_connector, Host};
+use lopin_explorer::remote::{thread_connector, Host, Port};
 use lopin_explorer::wire::{decode_event, encode_event, Start};
 use lopin_explorer::worker::Worker;
+use lopin_explorer::Connector;
 use std::sync::Arc;
 use std::time::Duration;
 
@@ -116,4 +117,69 @@ fn a_scene_the_solver_side_cannot_open_is_named() {
         Some(Event::Error(m)) => assert!(m.contains("no-such-scene"), "{m}"),
         other => panic!("expected an error naming the scene, got {other:?}"),
     }
+}
+
+/// A port that sends the solver side's first message (its start) again before every later
+/// one, as a page that started its worker early and then its explorer does.
+struct RepeatStart {
+    inner: Box<dyn Port>,
+    start: Option<Vec<u8>>,
+}
+
+impl Port for RepeatStart {
+    fn post(&mut self, bytes: Vec<u8>) {
+        match &self.start {
+            None => self.start = Some(bytes.clone()),
+            Some(start) => self.inner.post(start.clone()),
+        }
+        self.inner.post(bytes);
+    }
+}
+
+/// The same start again keeps the open scene and its solver state: the next solve starts warm.
+#[test]
+fn a_repeated_start_keeps_the_open_scene() {
+    let inner = thread_connector();
+    let connector = Connector::new(move |inbox| {
+        Ok(Box::new(RepeatStart {
+            inner: inner.connect(inbox)?,
+            start: None,
+        }) as Box<dyn Port>)
+    });
+    let start = Start {
+        scene: "two-blocks".into(),
+        two_scale: None,
+    };
+    let mut worker =
+        Worker::spawn_remote(start, Arc::new(|_| {}), &connector).expect("worker link");
+    let opened = lopin_core::scene::open(
+        "two-blocks",
+        &lopin_core::scene::Overrides::for_task(lopin_core::window_choice::Task::Interactive),
+    )
+    .expect("two-blocks opens");
+    let mut params = lopin_explorer::params::Params::of(&opened.problem, &opened.settings);
+    let mut reports = Vec::new();
+    for f in [None, Some(0.2)] {
+        if f.is_some() {
+            params.friction = f;
+        }
+        let g = worker.solve(params.clone());
+        loop {
+            match worker.wait(Duration::from_secs(120)) {
+                Some(Event::Finished(r)) if r.generation == g => {
+                    reports.push(r);
+                    break;
+                }
+                Some(Event::Error(e)) => panic!("solver error: {e}"),
+                Some(_) => {}
+                None => panic!("no report within 120 s"),
+            }
+        }
+    }
+    assert!(reports[0].converged && !reports[0].warm, "{:?}", reports[0]);
+    assert!(
+        reports[1].converged && reports[1].warm && reports[1].start == Some(0.3),
+        "{:?}",
+        reports[1]
+    );
 }

@@ -31,6 +31,8 @@ async fn run() -> Result<(), String> {
         .dyn_into::<web_sys::HtmlCanvasElement>()
         .map_err(|_| "#lopin_canvas is not a canvas")?;
     let scene = scene_from_address(&window);
+    // the solver opens the scene and factorizes while the page starts drawing
+    crate::solver_worker::start_early(&scene);
     let mut options = eframe::WebOptions::default();
     // WebGL2 everywhere: WebGPU is not in every browser yet, and the meshes are small
     if let eframe::egui_wgpu::WgpuSetup::CreateNew(create) = &mut options.wgpu_options.wgpu_setup {

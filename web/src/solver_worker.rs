@@ -1,13 +1,15 @@
 //! The page's solver in a Web Worker, both ends. The page's end, [`connector`], starts a module
-//! worker (`lopin_worker.js`), sends it this very WebAssembly module (compiled once, by the
-//! page) and then the explorer's messages ([`lopin_explorer::wire`]) as transferred byte
-//! buffers; the worker's answers go to the explorer's [`Inbox`]. The worker's end,
+//! worker (`lopin_worker.js`; the first one as early as the page starts, [`start_early`]),
+//! sends it this very WebAssembly module (compiled once, by the page) and then the explorer's
+//! messages ([`lopin_explorer::wire`]) as transferred byte buffers; the worker's answers go to
+//! the explorer's [`Inbox`] (queued until the explorer has started). The worker's end,
 //! [`solver_worker`], runs the explorer's [`Host`] there: iterations back to back, yielding to
 //! the worker's event loop between two units of work (a `MessageChannel` hop, no timer delay)
 //! so a newer slider move reaches the solver within one iteration; a timer when the background
 //! study waits for the user to be idle. No shared memory: the page needs no special headers.
 
 use lopin_explorer::remote::{Host, Inbox, Next, Port};
+use lopin_explorer::wire::{self, Start};
 use lopin_explorer::Connector;
 use std::cell::RefCell;
 use std::rc::Rc;
@@ -29,33 +31,98 @@ fn bytes_of(event: &web_sys::MessageEvent) -> Vec<u8> {
     js_sys::Uint8Array::new(&event.data()).to_vec()
 }
 
-/// The page's end: a Web Worker per scene (terminated with its port).
-pub fn connector() -> Connector {
-    Connector::new(|inbox: Inbox| {
-        let options = web_sys::WorkerOptions::new();
-        options.set_type(web_sys::WorkerType::Module);
-        let worker = web_sys::Worker::new_with_options(SCRIPT, &options)
-            .map_err(|e| format!("cannot start the solver's worker: {e:?}"))?;
-        let inbox = Rc::new(inbox);
-        let receiving = inbox.clone();
-        let on_message =
-            Closure::<dyn FnMut(web_sys::MessageEvent)>::new(move |e: web_sys::MessageEvent| {
-                receiving.deliver(&bytes_of(&e))
-            });
-        let on_error =
-            Closure::<dyn FnMut(web_sys::ErrorEvent)>::new(move |e: web_sys::ErrorEvent| {
-                inbox.failed(&format!("{SCRIPT}: {}", e.message()))
-            });
-        worker.set_onmessage(Some(on_message.as_ref().unchecked_ref()));
-        worker.set_onerror(Some(on_error.as_ref().unchecked_ref()));
-        worker
-            .post_message(&wasm_bindgen::module())
-            .map_err(|e| format!("cannot send the solver its module: {e:?}"))?;
-        Ok(Box::new(PagePort {
+/// Where the page's end sends the worker's messages: the explorer's inbox, or, before the
+/// explorer has started, a queue.
+#[derive(Default)]
+struct Receiver {
+    inbox: Option<Inbox>,
+    queue: Vec<Vec<u8>>,
+}
+
+impl Receiver {
+    fn take(&mut self, bytes: Vec<u8>) {
+        match &self.inbox {
+            Some(inbox) => inbox.deliver(&bytes),
+            None => self.queue.push(bytes),
+        }
+    }
+
+    /// The explorer's inbox, given what came before it.
+    fn attach(&mut self, inbox: Inbox) {
+        for bytes in self.queue.drain(..) {
+            inbox.deliver(&bytes);
+        }
+        self.inbox = Some(inbox);
+    }
+}
+
+/// A started worker and where its messages go.
+struct Started {
+    port: PagePort,
+    receiver: Rc<RefCell<Receiver>>,
+}
+
+thread_local! {
+    /// The worker [`start_early`] started, until the explorer connects to it.
+    static EARLY: RefCell<Option<Started>> = const { RefCell::new(None) };
+}
+
+/// Starts a worker and sends it this module.
+fn start_worker() -> Result<Started, String> {
+    let options = web_sys::WorkerOptions::new();
+    options.set_type(web_sys::WorkerType::Module);
+    let worker = web_sys::Worker::new_with_options(SCRIPT, &options)
+        .map_err(|e| format!("cannot start the solver's worker: {e:?}"))?;
+    let receiver = Rc::new(RefCell::new(Receiver::default()));
+    let receiving = receiver.clone();
+    let on_message =
+        Closure::<dyn FnMut(web_sys::MessageEvent)>::new(move |e: web_sys::MessageEvent| {
+            receiving.borrow_mut().take(bytes_of(&e))
+        });
+    let failing = receiver.clone();
+    let on_error = Closure::<dyn FnMut(web_sys::ErrorEvent)>::new(move |e: web_sys::ErrorEvent| {
+        if let Some(inbox) = &failing.borrow().inbox {
+            inbox.failed(&format!("{SCRIPT}: {}", e.message()));
+        }
+    });
+    worker.set_onmessage(Some(on_message.as_ref().unchecked_ref()));
+    worker.set_onerror(Some(on_error.as_ref().unchecked_ref()));
+    worker
+        .post_message(&wasm_bindgen::module())
+        .map_err(|e| format!("cannot send the solver its module: {e:?}"))?;
+    Ok(Started {
+        port: PagePort {
             worker,
             _on_message: on_message,
             _on_error: on_error,
-        }) as Box<dyn Port>)
+        },
+        receiver,
+    })
+}
+
+/// Starts the solver's worker on `scene` while the page itself starts (its drawing context,
+/// its first frame): the explorer's first connection takes it, its scene already open.
+pub fn start_early(scene: &str) {
+    if let Ok(mut started) = start_worker() {
+        let start = Start {
+            scene: scene.to_string(),
+            two_scale: None,
+        };
+        started.port.post(wire::encode_start(&start));
+        EARLY.with(|early| *early.borrow_mut() = Some(started));
+    }
+}
+
+/// The page's end: a Web Worker per scene (terminated with its port); the first is the one
+/// [`start_early`] started, if any.
+pub fn connector() -> Connector {
+    Connector::new(|inbox: Inbox| {
+        let started = match EARLY.with(|early| early.borrow_mut().take()) {
+            Some(s) => s,
+            None => start_worker()?,
+        };
+        started.receiver.borrow_mut().attach(inbox);
+        Ok(Box::new(started.port) as Box<dyn Port>)
     })
 }
 
