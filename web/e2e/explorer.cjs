@@ -4,7 +4,9 @@
 // the 3D view is drawn (not blank) in a screenshot, clicks the friction slider's rail where the
 // page says it is and waits for each warm re-solve to converge, then switches the section on
 // and scrubs time (each must change the picture), pins the current value as A and shows it side
-// by side with the current one (two viewports, both drawn), and fails on any console error.
+// by side with the current one (two viewports, both drawn), and fails on any console error;
+// then, in a second page whose solver's worker script cannot load, waits for the failure the
+// page must show.
 //
 //   node web/e2e/explorer.cjs URL OUT_DIR [MOVES]
 //
@@ -365,6 +367,22 @@ async function main() {
     for (const s of [after, cut, later, sideA, sideB]) delete s.png;
     report.after_view = after;
     report.title = last.title;
+
+    // a page whose solver's worker cannot load says so (no endless "starting")
+    const broken = await browser.newPage({ viewport: VIEWPORT });
+    await broken.route("**/lopin_worker.js", (r) => r.abort());
+    await broken.goto(url, { waitUntil: "load" });
+    await broken.waitForFunction(
+      () => document.getElementById("lopin-status").dataset.state === "failed",
+      null,
+      { timeout: LOAD_TIMEOUT_MS, polling: 50 }
+    );
+    const down = await status(broken);
+    if (!/the solver stopped: .*lopin_worker\.js/.test(down.error)) {
+      fail(`without its worker's script the page says: ${down.error}`);
+    }
+    report.without_worker = down.error;
+    await broken.close();
   } finally {
     await browser.close();
   }

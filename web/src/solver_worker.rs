@@ -32,11 +32,12 @@ fn bytes_of(event: &web_sys::MessageEvent) -> Vec<u8> {
 }
 
 /// Where the page's end sends the worker's messages: the explorer's inbox, or, before the
-/// explorer has started, a queue.
+/// explorer has started, a queue (and the worker's failure, if it failed meanwhile).
 #[derive(Default)]
 struct Receiver {
     inbox: Option<Inbox>,
     queue: Vec<Vec<u8>>,
+    failure: Option<String>,
 }
 
 impl Receiver {
@@ -47,10 +48,20 @@ impl Receiver {
         }
     }
 
+    fn fail(&mut self, reason: String) {
+        match &self.inbox {
+            Some(inbox) => inbox.failed(&reason),
+            None => self.failure = Some(reason),
+        }
+    }
+
     /// The explorer's inbox, given what came before it.
     fn attach(&mut self, inbox: Inbox) {
         for bytes in self.queue.drain(..) {
             inbox.deliver(&bytes);
+        }
+        if let Some(reason) = self.failure.take() {
+            inbox.failed(&reason);
         }
         self.inbox = Some(inbox);
     }
@@ -80,10 +91,14 @@ fn start_worker() -> Result<Started, String> {
             receiving.borrow_mut().take(bytes_of(&e))
         });
     let failing = receiver.clone();
-    let on_error = Closure::<dyn FnMut(web_sys::ErrorEvent)>::new(move |e: web_sys::ErrorEvent| {
-        if let Some(inbox) = &failing.borrow().inbox {
-            inbox.failed(&format!("{SCRIPT}: {}", e.message()));
-        }
+    // an error in the worker's code is an ErrorEvent; a script that cannot be loaded, a plain
+    // Event
+    let on_error = Closure::<dyn FnMut(web_sys::Event)>::new(move |e: web_sys::Event| {
+        let reason = match e.dyn_ref::<web_sys::ErrorEvent>() {
+            Some(e) => e.message(),
+            None => "the script could not be loaded".to_string(),
+        };
+        failing.borrow_mut().fail(format!("{SCRIPT}: {reason}"))
     });
     worker.set_onmessage(Some(on_message.as_ref().unchecked_ref()));
     worker.set_onerror(Some(on_error.as_ref().unchecked_ref()));
@@ -130,7 +145,7 @@ pub fn connector() -> Connector {
 struct PagePort {
     worker: web_sys::Worker,
     _on_message: Closure<dyn FnMut(web_sys::MessageEvent)>,
-    _on_error: Closure<dyn FnMut(web_sys::ErrorEvent)>,
+    _on_error: Closure<dyn FnMut(web_sys::Event)>,
 }
 
 impl Port for PagePort {
