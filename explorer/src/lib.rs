@@ -30,6 +30,7 @@ pub mod remote;
 pub mod render;
 pub mod result_folder;
 pub mod results_panel;
+mod schedule;
 pub mod section;
 mod service;
 pub mod solve_view;

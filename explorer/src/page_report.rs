@@ -83,6 +83,10 @@ impl PageReport {
             _ => solve.error().map(String::from),
         };
         let shown = app.cache.shown();
+        let done = match solve.status() {
+            SolveStatus::Done(r) => Some(r),
+            _ => None,
+        };
         PageReport {
             state,
             scene: app.info.name.clone(),
@@ -92,18 +96,9 @@ impl PageReport {
             eta,
             warm,
             latency_s: solve.last_latency(),
-            solve_s: match solve.status() {
-                SolveStatus::Done(r) => Some(r.solve_s),
-                _ => None,
-            },
-            engine_s: match solve.status() {
-                SolveStatus::Done(r) => Some(r.stages.local + r.stages.linear),
-                _ => None,
-            },
-            setup_s: match solve.status() {
-                SolveStatus::Done(r) => Some(r.stages.setup),
-                _ => None,
-            },
+            solve_s: done.map(|r| r.solve_s),
+            engine_s: done.map(|r| r.stages.local + r.stages.linear),
+            setup_s: done.map(|r| r.stages.setup),
             drawn: shown.is_some(),
             step: app.clock.step(),
             shown_step: shown.map(|f| (f.step, f.live)),

@@ -8,9 +8,10 @@
 
 use crate::app::{load_scene, Options};
 use crate::protocol::{DisplayStep, Event, Request};
+use crate::schedule::serve;
+pub use crate::schedule::Next;
 use crate::service::Service;
 use crate::wire::{self, Start, ToSolver};
-use lopin_core::counters::Instant;
 use std::sync::mpsc::{channel, Receiver, Sender};
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
@@ -96,19 +97,6 @@ impl PartialEq for Connector {
     }
 }
 
-/// What the solver side does after [`Host::work`].
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Next {
-    /// Work again at once (after taking the messages that came meanwhile).
-    Now,
-    /// Work again after this pause (the background study gives back as much time as its
-    /// iteration took), or sooner when a message comes.
-    After(Duration),
-    /// Nothing to do until a message comes, or until this wait has passed (background work
-    /// that waits for the user to be idle).
-    Wait(Option<Duration>),
-}
-
 /// The solver side: the service, the requests not served yet, and where its events go.
 pub struct Host {
     service: Option<Service>,
@@ -188,15 +176,7 @@ impl Host {
         let Some(service) = &mut self.service else {
             return Next::Wait(None);
         };
-        let started = Instant::now();
-        let busy = service.tick(&mut self.queue);
-        let next = if !busy {
-            Next::Wait(service.idle_wait())
-        } else if service.in_background() {
-            Next::After(started.elapsed())
-        } else {
-            Next::Now
-        };
+        let next = service.work(&mut self.queue);
         self.flush();
         next
     }
@@ -217,7 +197,13 @@ pub fn thread_connector() -> Connector {
             .name("lopin-solver-host".into())
             .spawn(move || {
                 let mut host = Host::new(move |bytes| inbox.deliver(&bytes));
-                serve(&mut host, &from_ui);
+                serve(
+                    &from_ui,
+                    &mut host,
+                    Next::Wait(None),
+                    |host, bytes: Vec<u8>| host.receive(&bytes),
+                    Host::work,
+                );
             })
             .map_err(|e| format!("cannot start the solver thread: {e}"))?;
         Ok(Box::new(to_solver) as Box<dyn Port>)
@@ -227,32 +213,5 @@ pub fn thread_connector() -> Connector {
 impl Port for Sender<Vec<u8>> {
     fn post(&mut self, bytes: Vec<u8>) {
         let _ = self.send(bytes);
-    }
-}
-
-/// Runs `host` on messages from `from_ui` until the UI side hangs up.
-fn serve(host: &mut Host, from_ui: &Receiver<Vec<u8>>) {
-    use std::sync::mpsc::RecvTimeoutError;
-    let mut next = Next::Wait(None);
-    loop {
-        let message = match next {
-            Next::Now => from_ui.try_recv().ok(),
-            Next::After(wait) | Next::Wait(Some(wait)) => match from_ui.recv_timeout(wait) {
-                Ok(m) => Some(m),
-                Err(RecvTimeoutError::Timeout) => None,
-                Err(RecvTimeoutError::Disconnected) => return,
-            },
-            Next::Wait(None) => match from_ui.recv() {
-                Ok(m) => Some(m),
-                Err(_) => return,
-            },
-        };
-        if let Some(m) = message {
-            host.receive(&m);
-            while let Ok(m) = from_ui.try_recv() {
-                host.receive(&m);
-            }
-        }
-        next = host.work();
     }
 }

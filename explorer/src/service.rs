@@ -21,6 +21,7 @@ use crate::protocol::{
 };
 use crate::recorder::{RecordedSolve, RecorderSlot};
 use crate::result_folder::{RowSource, StoredResult};
+use crate::schedule::Next;
 use crate::study::{self, Library, StoredStart};
 use lopin_core::counters::{Instant, IterationRecord};
 use lopin_core::post;
@@ -245,6 +246,20 @@ impl Service {
             Request::Solve { .. } | Request::Study(_) | Request::Release { .. } => {}
         }
         true
+    }
+
+    /// One [`Service::tick`], and what to do next: at once while work remains, after a pause
+    /// as long as the tick when it was the background study's, else wait for a request (or for
+    /// the background work due after [`Service::idle_wait`]).
+    pub(crate) fn work(&mut self, queue: &mut Vec<Request>) -> Next {
+        let started = Instant::now();
+        if !self.tick(queue) {
+            Next::Wait(self.idle_wait())
+        } else if self.in_background() {
+            Next::After(started.elapsed())
+        } else {
+            Next::Now
+        }
     }
 
     /// How long to wait for a request before [`Service::tick`] has background work (None:

@@ -13,6 +13,8 @@ use crate::protocol::{DisplayStep, Event, Request, StudyControl};
 use crate::recorder::RecorderSlot;
 use crate::remote::{Connector, Inbox, Port, Wake};
 use crate::result_folder::RowSource;
+#[cfg(not(target_arch = "wasm32"))]
+use crate::schedule::{serve, Next};
 use crate::service::Service;
 use crate::wire::{self, Start, ToSolver};
 use lopin_core::counters::Instant;
@@ -104,7 +106,7 @@ impl Worker {
     pub fn spawn_remote(start: Start, wake: Wake, connector: &Connector) -> Result<Worker, String> {
         let (events, erx) = channel();
         let mut port = connector.connect(Inbox::new(events, wake))?;
-        port.post(wire::encode_to_solver(&ToSolver::Start(start)));
+        port.post(wire::encode_start(&start));
         Ok(Worker {
             events: erx,
             pending: Default::default(),
@@ -358,55 +360,18 @@ fn thread_link(start: StartService) -> lopin_core::Result<Link> {
     std::thread::Builder::new()
         .name("lopin-solver".into())
         .spawn(move || {
-            if let Some(mut service) = start() {
-                serve(&mut service, &crx);
+            if let Some(service) = start() {
+                let first = Next::Wait(service.idle_wait());
+                let mut state = (service, Vec::new());
+                serve(
+                    &crx,
+                    &mut state,
+                    first,
+                    |(_, queue), request| queue.push(request),
+                    |(service, queue)| service.work(queue),
+                );
             }
         })
         .map_err(|e| lopin_core::LopinError::setting("thread", format!("cannot start: {e}")))?;
     Ok(Link::Thread(ctx))
-}
-
-/// The solver thread: blocks for a request when idle (until the background study may start,
-/// if it has work), otherwise drains new requests between two units of work (so a newer
-/// parameter change cancels the running solve within one iteration); ends when the [`Worker`]
-/// is dropped.
-#[cfg(not(target_arch = "wasm32"))]
-fn serve(service: &mut Service, commands: &Receiver<Request>) {
-    use std::sync::mpsc::{RecvTimeoutError, TryRecvError};
-    let mut queue: Vec<Request> = Vec::new();
-    let mut busy = false;
-    loop {
-        if !busy {
-            let next = match service.idle_wait() {
-                Some(wait) => commands.recv_timeout(wait).map_err(|e| match e {
-                    RecvTimeoutError::Timeout => None,
-                    RecvTimeoutError::Disconnected => Some(()),
-                }),
-                None => commands.recv().map_err(|_| Some(())),
-            };
-            match next {
-                Ok(c) => queue.push(c),
-                Err(Some(())) => return,
-                Err(None) => {}
-            }
-        }
-        loop {
-            match commands.try_recv() {
-                Ok(c) => queue.push(c),
-                Err(TryRecvError::Empty) => break,
-                Err(TryRecvError::Disconnected) => return,
-            }
-        }
-        let started = std::time::Instant::now();
-        busy = service.tick(&mut queue);
-        if service.in_background() {
-            // the background study gives back as much time as its iteration took, so that the
-            // drawing of frames keeps the cores half the time; a request ends the pause at once
-            match commands.recv_timeout(started.elapsed()) {
-                Ok(c) => queue.push(c),
-                Err(RecvTimeoutError::Timeout) => {}
-                Err(RecvTimeoutError::Disconnected) => return,
-            }
-        }
-    }
 }

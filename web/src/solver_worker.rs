@@ -211,15 +211,16 @@ impl Worker {
         self.hop_posted = false;
         self.timer = None;
         let t0 = now_ms(&self.scope);
-        loop {
-            match self.host.work() {
-                Next::Now if now_ms(&self.scope) - t0 < SLICE_MS => continue,
-                Next::Now => self.now(),
-                Next::After(d) => self.after(d.as_secs_f64() * 1e3),
-                Next::Wait(Some(d)) => self.after(d.as_secs_f64() * 1e3),
-                Next::Wait(None) => {}
+        let next = loop {
+            let next = self.host.work();
+            if next != Next::Now || now_ms(&self.scope) - t0 >= SLICE_MS {
+                break next;
             }
-            return;
+        };
+        match next {
+            Next::Now => self.now(),
+            Next::After(d) | Next::Wait(Some(d)) => self.after(d.as_secs_f64() * 1e3),
+            Next::Wait(None) => {}
         }
     }
 }
