@@ -4,7 +4,10 @@
 #                     checks that the 3D view is drawn (enough colormap-coloured pixels, not just
 #                     the background); without SCENE, `lopin` as the README starts it;
 #   measure [SCENE] : runs `lopin view SCENE --measure` (default two-blocks; SCENE may be a result
-#                     folder): time from the start to the first converged picture, then stays idle while the
+#                     folder; a run folder with stored fields (`lopin run --out DIR --fields`) is
+#                     measured orbiting the camera and scrubbing the time steps: first picture,
+#                     frame interval, time to a step's picture, peak memory):
+#                     time from the start to the first converged picture, then stays idle while the
 #                     background study stores the friction slider's range, then moves the
 #                     slider 8 times (stored values and values between them); time to the
 #                     first and to the converged picture of each move, frame intervals idle /
@@ -45,13 +48,26 @@ unset WAYLAND_DISPLAY
 for _ in $(seq 50); do xdotool getdisplaygeometry >/dev/null 2>&1 && break; sleep 0.1; done
 
 if [ "$mode" = measure ]; then
-    timeout 300 "$bin" view "${scene:-two-blocks}" --measure out/explorer-measure.json >/dev/null
+    timeout "${LOPIN_MEASURE_TIMEOUT:-300}" "$bin" view "${scene:-two-blocks}" --measure out/explorer-measure.json >/dev/null
     python3 - out/explorer-measure.json <<'PY'
 import json, sys
 d = json.load(open(sys.argv[1]))
 def row(name, key, scale=1.0, unit="s"):
     s = d[key]
     print(f"| {name} ({unit}) | {s['count']} | {s['median'] * scale:.3f} | {s['p90'] * scale:.3f} | {s['max'] * scale:.3f} |")
+if "scrubs" in d:
+    # a run opened from its stored fields: orbit, scrub, memory
+    print(f"open → first picture: {d['open_to_first_picture_s']:.2f} s (reading the folder included)")
+    print(f"surface triangles: {d['triangles']}")
+    mem = d.get("peak_memory_bytes")
+    if mem is not None:
+        print(f"peak resident memory: {mem / 2**30:.2f} GiB")
+    print("| | n | median | p90 | max |")
+    print("|---|---|---|---|---|")
+    row("frame interval while the camera orbits", "orbit_frame_interval_s")
+    row("scrub → mesh of the new step built", "scrub_built_s")
+    row("scrub → picture of the new step presented", "scrub_picture_s")
+    sys.exit(0)
 o = d.get("open_to_first_converged_s")
 if o is not None:
     print(f"open → first converged picture: {o:.2f} s (loading the scene or folder included)")

@@ -1,7 +1,9 @@
 //! `lopin view FOLDER`: a result folder read for the explorer ([`OpenedFolder`]): a run
 //! (`run.json` and `solution.bin`, also an MPI run's folder, which rank 0 writes whole), a sweep
 //! (`sweep.json`, `run.json`, `value-NNN.json` records and their states) or a study
-//! (`study.json`, `run.json`, `study.csv` and `states/config-NNNN.state`). The scene is rebuilt
+//! (`study.json`, `run.json`, `study.csv` and `states/config-NNNN.state`); a run folder that
+//! holds `fields.bin` (`lopin run --out DIR --fields`) opens from its stored step fields
+//! without its scene ([`StoredRun`]). The scene is rebuilt
 //! from run.json and checked to be the one the folder's files belong to (fingerprints); each
 //! configuration's row comes from the folder's records, checked as a resume checks them (a
 //! run's solution, a sweep's record, a study row's checksum), and its state is read by the loader when
@@ -18,10 +20,12 @@ use lopin_core::Problem;
 use lopin_explorer::result_folder::{
     Assigned, FolderKind, ResultRow, ResultTable, StateLoader, StoredResult,
 };
-use lopin_explorer::{FolderOpener, OpenedFolder};
+use lopin_explorer::stored_run::StoredRun;
+use lopin_explorer::{FolderOpener, Loaded, OpenedFolder};
 
 use crate::cli::study::{state_name as study_state, Plan};
 use crate::cli::sweep::records::{Header, Store, SWEEP_JSON};
+use crate::run_dir::fields_file::{self, FIELDS_BIN};
 use crate::run_dir::fingerprint::{self, crc32};
 use crate::run_dir::run_json::{RunRecord, RUN_JSON};
 use crate::run_dir::saved_states::SavedStates;
@@ -32,17 +36,21 @@ pub fn opener() -> FolderOpener {
     FolderOpener::new(|path| open(path).map_err(|e| format!("{e:#}")))
 }
 
-/// Opens a run, sweep or study folder.
-pub fn open(dir: &Path) -> anyhow::Result<OpenedFolder> {
+/// Opens a run, sweep or study folder; a run folder with stored step fields opens from them,
+/// without its scene.
+pub fn open(dir: &Path) -> anyhow::Result<Loaded> {
     anyhow::ensure!(dir.is_dir(), "{}: not a folder", dir.display());
     if dir.join("study.json").exists() {
-        return open_study(dir);
+        return open_study(dir).map(|f| Loaded::Folder(Box::new(f)));
     }
     if dir.join(SWEEP_JSON).exists() {
-        return open_sweep(dir);
+        return open_sweep(dir).map(|f| Loaded::Folder(Box::new(f)));
     }
     if dir.join(RUN_JSON).exists() {
-        return open_run(dir);
+        if dir.join(FIELDS_BIN).exists() {
+            return open_stored(dir).map(|r| Loaded::Stored(Box::new(r)));
+        }
+        return open_run(dir).map(|f| Loaded::Folder(Box::new(f)));
     }
     bail!(
         "{}: not a result folder: it holds no {RUN_JSON}, {SWEEP_JSON} or study.json (the \
@@ -50,6 +58,19 @@ pub fn open(dir: &Path) -> anyhow::Result<OpenedFolder> {
          --out`)",
         dir.display()
     )
+}
+
+/// A run folder with `fields.bin`: its geometry and outcome read, its steps read when shown.
+fn open_stored(dir: &Path) -> anyhow::Result<StoredRun> {
+    let record = RunRecord::read(dir)?;
+    anyhow::ensure!(
+        record.kind == "run",
+        "{}: run.json describes a {}, not a run, beside {FIELDS_BIN}",
+        dir.display(),
+        record.kind
+    );
+    let (head, file) = fields_file::open(&dir.join(FIELDS_BIN), record.fingerprint())?;
+    fields_file::stored_run(dir, head, file)
 }
 
 /// A run folder: its solution, shown as stored.

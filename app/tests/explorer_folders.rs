@@ -4,15 +4,23 @@
 //! with its table, each configuration warm-solved from its stored state to the quantities its
 //! row holds, sortable by any column, two configurations pinned and compared as a difference
 //! field; a sweep folder the same; a damaged `solution.bin`, a foreign folder and a damaged
-//! state file each give a message naming the file in the window, and nothing else changes.
+//! state file each give a message naming the file in the window, and nothing else changes. A
+//! run folder with stored step fields (`lopin run --out DIR --fields`) opens without its scene:
+//! the fields on screen at the first step shown and after a scrub equal those replayed from
+//! `solution.bin` to single precision (relative 1e-6 of the field's largest value), the probe's
+//! histories likewise (its accelerations, differences of single-precision velocities, to 1e-3),
+//! nothing is solved, another parameter value is refused with a message naming the folder; a
+//! damaged step, head, cut file or another run's file each give a message naming `fields.bin`
+//! and the reason; `lopin export DIR --fields` adds the same file to a run folder without it.
 
 mod readers;
 
 use egui_kittest::kittest::Queryable;
 use egui_kittest::Harness;
 use lopin_app::run_dir::run_json::RunRecord;
+use lopin_explorer::fields::{self, SubStepFields};
 use lopin_explorer::result_folder::FolderKind;
-use lopin_explorer::{ExplorerApp, Options};
+use lopin_explorer::{ExplorerApp, Loaded, Options};
 use readers::scratch;
 use std::path::Path;
 use std::process::Command;
@@ -318,6 +326,249 @@ fn damaged_and_foreign_folders_give_a_message_in_the_window() {
     assert_eq!(
         h.state().results.as_ref().map(|r| r.kind),
         Some(FolderKind::Run)
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The converged fields of the displayed step are on screen.
+fn shown_at(a: &ExplorerApp, step: usize) -> bool {
+    a.solve.converged()
+        && a.cache
+            .shown()
+            .is_some_and(|f| !f.live && f.step == step && a.clock.step() == step)
+}
+
+/// `a` equals `b` to single precision: within 1e-6 of b's own size plus 1e-6 of the largest
+/// value of the field.
+fn close(what: &str, a: &[f64], b: &[f64]) {
+    assert_eq!(a.len(), b.len(), "{what}: lengths");
+    let scale = b.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    for (k, (x, y)) in a.iter().zip(b).enumerate() {
+        assert!(
+            (x - y).abs() <= 1e-6 * (y.abs() + scale),
+            "{what}[{k}]: {x} against {y} (largest {scale})"
+        );
+    }
+}
+
+fn same_fields(step: usize, shown: &[SubStepFields], expected: &[SubStepFields]) {
+    assert_eq!(shown.len(), expected.len());
+    let flat = |f: &[SubStepFields], pick: fn(&SubStepFields) -> &Vec<f64>| -> Vec<f64> {
+        f.iter().flat_map(|s| pick(s).iter().copied()).collect()
+    };
+    for (name, pick) in [
+        ("u", (|s| &s.u) as fn(&SubStepFields) -> &Vec<f64>),
+        ("v", |s| &s.v),
+        ("von Mises", |s| &s.von_mises),
+    ] {
+        close(
+            &format!("step {step}: {name}"),
+            &flat(shown, pick),
+            &flat(expected, pick),
+        );
+    }
+    assert!(
+        expected.iter().flat_map(|s| &s.von_mises).any(|&v| v > 1e6),
+        "a stressed run at step {step}"
+    );
+}
+
+#[test]
+fn a_run_with_stored_fields_opens_without_its_scene_and_reads_each_step() {
+    let dir = scratch("view-stored");
+    let run = dir.join("run");
+    lopin(&[
+        "run",
+        "two-blocks",
+        "--out",
+        run.to_str().expect("utf-8"),
+        "--fields",
+    ]);
+    let record = RunRecord::read(&run).expect("run.json");
+    assert!(
+        record.files.iter().any(|f| f == "fields.bin"),
+        "{:?}",
+        record.files
+    );
+    let (_, solver, solution) = RunRecord::open_run(&run).expect("the run reads back");
+    let steps = solver.problem().time.steps;
+
+    let mut h = harness(&run);
+    let first = h.state().clock.step();
+    step_until(&mut h, "the stored run shown", |a| shown_at(a, first));
+    let app = h.state();
+    assert!(app.stored, "opened from its stored fields");
+    assert_eq!(app.results.as_ref().map(|r| r.kind), Some(FolderKind::Run));
+    assert_eq!(app.info.dofs, solver.problem().dof_count());
+    assert_eq!(app.info.steps, steps);
+    let r = app.solve.reports().last().expect("a report");
+    assert!(r.from_store && r.iterations == 0 && r.converged, "{r:?}");
+    let expected = fields::compute(&solver, &solution, first, 0, false);
+    same_fields(
+        first,
+        &app.cache.shown().expect("fields").subs,
+        &expected.subs,
+    );
+
+    // a scrub reads that step from the file
+    let to = (3 * steps) / 4;
+    h.state_mut().clock.set_step(to);
+    step_until(&mut h, "the scrubbed step", |a| shown_at(a, to));
+    let expected = fields::compute(&solver, &solution, to, 0, false);
+    same_fields(
+        to,
+        &h.state().cache.shown().expect("fields").subs,
+        &expected.subs,
+    );
+    assert_eq!(h.state().solve.reports().len(), 1, "nothing solved");
+
+    // the probe: a node of A's top face, its histories read node by node through the steps
+    let (sub, node, _) =
+        lopin_core::post::nearest_node(solver.problem(), [0.02, 0.02, 0.04]).expect("a node");
+    h.state_mut().set_probe(sub, node);
+    step_until(&mut h, "the probe", |a| a.cache.probe_history().is_some());
+    let got = h.state().cache.probe_history().expect("a probe").clone();
+    let want = fields::probe(&solver, &solution, sub, node);
+    close("probe |v|", &got.speed, &want.speed);
+    close("probe von Mises", &got.von_mises, &want.von_mises);
+    let peak = want.acceleration.iter().fold(0.0f64, |m, &x| m.max(x));
+    assert!(peak > 0.0);
+    for (x, y) in got.acceleration.iter().zip(&want.acceleration) {
+        assert!((x - y).abs() <= 1e-3 * peak, "probe |a|: {x} against {y}");
+    }
+    assert_eq!(got.spectrum.len(), want.spectrum.len());
+    let top = want
+        .spectrum
+        .iter()
+        .flat_map(|s| s.1)
+        .fold(0.0f64, f64::max);
+    for (g, w) in got.spectrum.iter().zip(&want.spectrum) {
+        assert_eq!(g.0, w.0);
+        for c in 0..3 {
+            assert!(
+                (g.1[c] - w.1[c]).abs() <= 1e-3 * top,
+                "spectrum {g:?} against {w:?}"
+            );
+        }
+    }
+
+    // another parameter value needs the scene: refused, naming the folder
+    if let Some(f) = &mut h.state_mut().solve.params_mut().friction {
+        *f += 0.1;
+    }
+    step_until(&mut h, "the refusal", |a| a.solve.error().is_some());
+    let error = h.state().solve.error().expect("a message").to_string();
+    assert!(
+        error.contains(&run.display().to_string()) && error.contains("stored fields"),
+        "{error}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Copies `run` to `to` and changes its fields.bin with `damage`.
+fn damaged_copy(run: &Path, to: &Path, damage: impl FnOnce(&mut Vec<u8>)) {
+    std::fs::create_dir_all(to).expect("folder");
+    for f in ["run.json", "solution.bin", "fields.bin"] {
+        std::fs::copy(run.join(f), to.join(f)).expect("copy");
+    }
+    let path = to.join("fields.bin");
+    let mut bytes = std::fs::read(&path).expect("read");
+    damage(&mut bytes);
+    std::fs::write(&path, bytes).expect("write");
+}
+
+fn open_error(dir: &Path) -> String {
+    match lopin_app::result_folder::open(dir) {
+        Ok(_) => panic!("{}: opened", dir.display()),
+        Err(e) => format!("{e:#}"),
+    }
+}
+
+#[test]
+fn damaged_or_foreign_stored_fields_are_refused_naming_the_file() {
+    let dir = scratch("view-stored-damaged");
+    let run = dir.join("run");
+    let path = run.to_str().expect("utf-8");
+    lopin(&["run", "two-blocks", "--out", path, "--fields"]);
+    let other = dir.join("other");
+    lopin(&[
+        "run",
+        "two-blocks",
+        "--f",
+        "0.1",
+        "--out",
+        other.to_str().expect("utf-8"),
+        "--fields",
+    ]);
+
+    // added later to a run folder without it: the same file
+    let plain = dir.join("plain");
+    let plain_path = plain.to_str().expect("utf-8");
+    lopin(&["run", "two-blocks", "--out", plain_path]);
+    assert!(matches!(
+        lopin_app::result_folder::open(&plain),
+        Ok(Loaded::Folder(_))
+    ));
+    lopin(&["export", plain_path, "--fields"]);
+    assert!(
+        std::fs::read(plain.join("fields.bin")).ok() == std::fs::read(run.join("fields.bin")).ok(),
+        "lopin export --fields writes the file lopin run --fields does"
+    );
+    let record = RunRecord::read(&plain).expect("run.json");
+    assert!(record.files.iter().any(|f| f == "fields.bin"));
+    assert!(matches!(
+        lopin_app::result_folder::open(&plain),
+        Ok(Loaded::Stored(_))
+    ));
+
+    // its head: refused at opening
+    let head = dir.join("head");
+    damaged_copy(&run, &head, |b| b[40] ^= 0x10);
+    let e = open_error(&head);
+    assert!(
+        e.contains("fields.bin") && e.contains("head is damaged"),
+        "{e}"
+    );
+    // cut short
+    let cut = dir.join("cut");
+    damaged_copy(&run, &cut, |b| b.truncate(b.len() - 10));
+    let e = open_error(&cut);
+    assert!(e.contains("fields.bin") && e.contains("cut short"), "{e}");
+    // another run's file
+    let foreign = dir.join("foreign");
+    damaged_copy(&run, &foreign, |b| {
+        *b = std::fs::read(other.join("fields.bin")).expect("read")
+    });
+    let e = open_error(&foreign);
+    assert!(e.contains("fields.bin") && e.contains("another run"), "{e}");
+    // not Lopin's
+    let text = dir.join("text");
+    damaged_copy(&run, &text, |b| {
+        *b = b"just some text, long enough to be read".to_vec()
+    });
+    let e = open_error(&text);
+    assert!(e.contains("fields.bin") && e.contains("not a Lopin"), "{e}");
+
+    // a damaged last step: the folder opens, that step's picture is refused naming it
+    let step = dir.join("step");
+    damaged_copy(&run, &step, |b| {
+        let n = b.len();
+        b[n - 100] ^= 0x10
+    });
+    match lopin_app::result_folder::open(&step).expect("the head is intact") {
+        Loaded::Stored(_) => {}
+        _ => panic!("a run with fields.bin opens from it"),
+    }
+    let mut h = harness(&step);
+    let first = h.state().clock.step();
+    step_until(&mut h, "the first step", |a| shown_at(a, first));
+    let last = h.state().clock.steps();
+    h.state_mut().clock.set_step(last);
+    step_until(&mut h, "the damaged step", |a| a.solve.error().is_some());
+    let e = h.state().solve.error().expect("a message").to_string();
+    assert!(
+        e.contains("fields.bin") && e.contains(&format!("step {last} is damaged")),
+        "{e}"
     );
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -11,6 +11,7 @@
 #![cfg(feature = "mpi")]
 
 use lopin_explorer::result_folder::{FolderKind, StoredResult};
+use lopin_explorer::Loaded;
 use std::path::Path;
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
@@ -106,7 +107,10 @@ fn runs_equal_the_run_on_one_machine_on_one_to_four_ranks() {
 /// The folder an mpirun run wrote opens in the explorer: one row, its stored solution (the
 /// run's iterations) read back whole for the rebuilt problem.
 fn opens_in_the_explorer(dir: &Path, report: &serde_json::Value) {
-    let f = lopin_app::result_folder::open(dir).expect("the explorer opens the folder");
+    let Loaded::Folder(f) = lopin_app::result_folder::open(dir).expect("the explorer opens it")
+    else {
+        panic!("a run folder without stored fields opens with its scene");
+    };
     assert_eq!(f.kind, FolderKind::Run);
     assert_eq!(f.table.rows.len(), 1);
     match (f.loader)(0, &f.scene.problem).expect("the solution reads back") {
@@ -115,6 +119,28 @@ fn opens_in_the_explorer(dir: &Path, report: &serde_json::Value) {
         }
         StoredResult::State(_) => panic!("a run's folder holds its whole solution"),
     }
+}
+
+/// A run's stored step fields written under mpirun (every rank's fields gathered on rank 0)
+/// are the file one machine writes, byte for byte, and open in the explorer without the scene.
+#[test]
+fn stored_fields_on_two_ranks_are_those_of_one_machine() {
+    let one = scratch("fields-one");
+    let two = scratch("fields-two");
+    let args = ["run", "two-blocks", "--split", "2", "--fields", "--out"];
+    run(Command::new(LOPIN).args(args).arg(&one));
+    run(mpirun(2, &args).arg(&two));
+    let file = |d: &Path| bytes(&d.join("fields.bin"));
+    assert!(
+        file(&one) == file(&two),
+        "fields.bin differs between one machine and two ranks"
+    );
+    assert!(matches!(
+        lopin_app::result_folder::open(&two),
+        Ok(Loaded::Stored(_))
+    ));
+    std::fs::remove_dir_all(&one).ok();
+    std::fs::remove_dir_all(&two).ok();
 }
 
 /// A non-matching contact whose two sides (A and B, one substructure each) sit on two ranks.
@@ -243,7 +269,10 @@ fn a_study_on_ranks_equals_its_chains_on_threads() {
         }
         // the folder opens in the explorer with every configuration's state, whichever rank
         // wrote it
-        let f = lopin_app::result_folder::open(&d).expect("the explorer opens the folder");
+        let Loaded::Folder(f) = lopin_app::result_folder::open(&d).expect("the explorer opens it")
+        else {
+            panic!("a study folder opens with its scene");
+        };
         assert_eq!(f.kind, FolderKind::Study);
         assert_eq!(f.table.rows.len(), 12);
         for r in 0..12 {

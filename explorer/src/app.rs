@@ -19,9 +19,12 @@ use crate::params::{FrictionTargets, Params};
 use crate::recorder::RecorderFactory;
 use crate::recording::Recording;
 use crate::remote::Connector;
-use crate::result_folder::{FolderOpener, OpenedFolder, RowSource};
+use crate::result_folder::{
+    FolderKind, FolderOpener, OpenedFolder, ResultRow, ResultTable, RowSource,
+};
 use crate::results_panel::ResultsView;
 use crate::solve_view::SolveView;
+use crate::stored_run::StoredRun;
 use crate::study_view::{Compare, StudyView};
 use crate::wire::Start;
 use crate::worker::Worker;
@@ -77,6 +80,20 @@ pub enum Loaded {
     Scene(Box<scene::Opened>),
     /// A result folder.
     Folder(Box<OpenedFolder>),
+    /// A run folder with stored step fields, opened without the scene.
+    Stored(Box<StoredRun>),
+}
+
+/// What [`ExplorerApp::assemble`] puts together.
+struct Parts {
+    info: SceneInfo,
+    geometry: SceneGeometry,
+    solve: SolveView,
+    results: Option<ResultsView>,
+    friction_targets: FrictionTargets,
+    recording: Recording,
+    clock: Clock,
+    stored: bool,
 }
 
 /// Scene facts shown in the sizes panel.
@@ -129,6 +146,8 @@ pub struct ExplorerApp {
     pub folder_input: String,
     /// Folder to open at the end of the frame.
     pub pending_folder: Option<std::path::PathBuf>,
+    /// Whether it shows a run opened from its stored fields (the parameters cannot move).
+    pub stored: bool,
     /// Whether the GPU view is available (wgpu backend).
     gpu: bool,
     measure: Option<Measure>,
@@ -156,7 +175,7 @@ fn open_folder(options: &Options, path: &std::path::Path) -> Result<Loaded, Stri
             path.display()
         )
     })?;
-    opener.open(path).map(|f| Loaded::Folder(Box::new(f)))
+    opener.open(path)
 }
 
 /// Opens a scene for the explorer ([`scene::open`]: the whole interval, re-solved warm after
@@ -203,6 +222,7 @@ impl ExplorerApp {
     ) -> Result<Self, String> {
         let (opened, folder) = match loaded {
             Loaded::Scene(o) => (*o, None),
+            Loaded::Stored(run) => return Self::with_stored(ctx, options, *run, gpu),
             Loaded::Folder(f) => {
                 let f = *f;
                 let OpenedFolder {
@@ -265,36 +285,99 @@ impl ExplorerApp {
                 .map_err(|e| e.to_string())?,
         };
         let clock = Clock::new(info.steps, info.dt, worker.display_step());
-        let (solve, results, params) = match folder {
-            None => (SolveView::start(worker, base.clone()), None, base),
+        let (solve, results) = match folder {
+            None => (SolveView::start(worker, base), None),
             Some((path, kind, table, _, first)) => {
                 let results = ResultsView::new(path, kind, table, base, first);
                 let params = results.params_of(first);
                 results.give_friction(first, &mut friction_targets);
                 let name = results.row_name(first);
-                let solve = SolveView::start_row(worker, params.clone(), first, name);
-                (solve, Some(results), params)
+                let solve = SolveView::start_row(worker, params, first, name);
+                (solve, Some(results))
             }
         };
-        let study = StudyView::new(&params);
-        let layout = Layout::new(&geo);
-        let measure = options.measure.clone().map(Measure::new);
-        let record = options.record;
-        let mut app = ExplorerApp {
-            options,
+        let parts = Parts {
             info,
-            geometry: Arc::new(geo),
+            geometry: geo,
             solve,
-            cache: FieldCache::default(),
-            study,
+            results,
             friction_targets,
             recording,
             clock,
+            stored: false,
+        };
+        Ok(Self::assemble(ctx, options, parts, gpu))
+    }
+
+    /// The explorer on a run opened from its stored fields: its one row shown from the
+    /// store, the parameters fixed.
+    fn with_stored(
+        ctx: egui::Context,
+        options: Options,
+        run: StoredRun,
+        gpu: bool,
+    ) -> Result<Self, String> {
+        let wake_ctx = ctx.clone();
+        let wake: Arc<dyn Fn() + Send + Sync> = Arc::new(move || wake_ctx.request_repaint());
+        let worker = Worker::spawn_stored(&run, wake).map_err(|e| e.to_string())?;
+        let clock = Clock::new(run.info.steps, run.info.dt, worker.display_step());
+        let o = run.outcome;
+        let table = ResultTable {
+            parameters: Vec::new(),
+            quantities: Vec::new(),
+            rows: vec![ResultRow {
+                name: "run".into(),
+                assigned: Vec::new(),
+                quantities: Vec::new(),
+                iterations: Some(o.iterations),
+                converged: o.converged,
+            }],
+        };
+        let results = ResultsView::new(run.path, FolderKind::Run, table, run.params.clone(), 0);
+        let solve = SolveView::start_row(worker, run.params, 0, "run".into());
+        let parts = Parts {
+            recording: Recording::new(None, &run.info.name),
+            info: run.info,
+            geometry: run.geometry,
+            solve,
+            results: Some(results),
+            friction_targets: run.friction_targets,
+            clock,
+            stored: true,
+        };
+        Ok(Self::assemble(ctx, options, parts, gpu))
+    }
+
+    /// The explorer from its parts, the study, layout and measurement made for them.
+    fn assemble(ctx: egui::Context, options: Options, parts: Parts, gpu: bool) -> Self {
+        let study = StudyView::new(parts.solve.params());
+        let layout = Layout::new(&parts.geometry);
+        let measure = options.measure.clone().map(|path| {
+            let mut m = if parts.stored {
+                Measure::stored(path)
+            } else {
+                Measure::new(path)
+            };
+            m.set_triangles(parts.geometry.assembled_triangle_count());
+            m
+        });
+        let record = options.record && !parts.stored;
+        let mut app = ExplorerApp {
+            options,
+            info: parts.info,
+            geometry: Arc::new(parts.geometry),
+            solve: parts.solve,
+            cache: FieldCache::default(),
+            study,
+            friction_targets: parts.friction_targets,
+            recording: parts.recording,
+            clock: parts.clock,
             layout,
             pending_scene: None,
-            results,
+            results: parts.results,
             folder_input: String::new(),
             pending_folder: None,
+            stored: parts.stored,
             gpu,
             measure,
             ctx,
@@ -302,7 +385,7 @@ impl ExplorerApp {
         if record {
             app.set_recording(true);
         }
-        Ok(app)
+        app
     }
 
     /// Counts the measurement's time to the first converged picture from `t` (when the scene or
@@ -405,11 +488,8 @@ impl ExplorerApp {
             &mut self.study,
             self.measure.as_mut(),
         );
-        // fields for the displayed step: the converged ones if cached, else the live iterate
-        let (busy, done) = (self.solve.busy(), self.solve.last_done_generation());
-        let newest = self.solve.generation();
-        self.cache
-            .show_step(self.clock.step(), busy, done, newest, self.solve.worker());
+        self.show_displayed_step();
+        let (busy, newest) = (self.solve.busy(), self.solve.generation());
         let stale = self
             .study
             .stand_in
@@ -417,6 +497,15 @@ impl ExplorerApp {
         if stale {
             self.study.stand_in = None;
         }
+    }
+
+    /// Puts the displayed step's fields on screen: the converged ones if cached (else asked
+    /// for), or the live iterate.
+    fn show_displayed_step(&mut self) {
+        let (busy, done) = (self.solve.busy(), self.solve.last_done_generation());
+        let newest = self.solve.generation();
+        self.cache
+            .show_step(self.clock.step(), busy, done, newest, self.solve.worker());
     }
 
     /// What this frame finds, for the measurement.
@@ -475,6 +564,12 @@ impl ExplorerApp {
                         *p = f;
                     }
                 }
+                Action::Orbit(px) => self.layout.camera.orbit(px, 0.0),
+                Action::Scrub(at) => {
+                    let steps = self.clock.steps();
+                    self.clock.set_step((at * steps as f64).round() as usize);
+                    m.on_scrub(self.clock.step());
+                }
                 Action::Close => close = true,
             }
         }
@@ -498,22 +593,33 @@ impl ExplorerApp {
                 row_clicked = crate::results_panel::show(ui, results);
                 ui.separator();
             }
-            crate::panels::parameters(
-                ui,
-                self.solve.params_mut(),
-                &mut self.friction_targets,
-                &mut self.layout.controls,
-            );
-            ui.separator();
-            let friction = self.solve.params().friction;
-            let label = self.solve.params().friction_label();
-            crate::study_panel::show(
-                ui,
-                &mut self.study,
-                friction,
-                &label,
-                &mut self.layout.controls,
-            );
+            if self.stored {
+                ui.label(
+                    "Stored fields: the run's own parameter values (`lopin view SCENE` \
+                     re-solves the scene)",
+                );
+            }
+            ui.add_enabled_ui(!self.stored, |ui| {
+                crate::panels::parameters(
+                    ui,
+                    self.solve.params_mut(),
+                    &mut self.friction_targets,
+                    &mut self.layout.controls,
+                );
+                if self.stored {
+                    return;
+                }
+                ui.separator();
+                let friction = self.solve.params().friction;
+                let label = self.solve.params().friction_label();
+                crate::study_panel::show(
+                    ui,
+                    &mut self.study,
+                    friction,
+                    &label,
+                    &mut self.layout.controls,
+                );
+            });
             ui.separator();
             crate::panels::view_options(ui, &mut self.layout, &self.info);
             ui.separator();
@@ -537,6 +643,8 @@ impl ExplorerApp {
             }
         }
         crate::timeline::show(ui, &mut self.clock, &mut self.layout.controls);
+        // a step moved in this frame is asked for now, not a frame later
+        self.show_displayed_step();
         crate::plots::show(ui, &self.solve, &self.cache, &self.clock, &self.info);
         // after the panels, so a change made in them is drawn in this same frame: a new request
         // puts the nearest stored picture on screen at once
@@ -564,7 +672,7 @@ impl ExplorerApp {
             .layout
             .rebuild_mesh_if_needed(&self.geometry, &self.cache, against);
         if let (true, Some(m), Some(f)) = (rebuilt, &mut self.measure, self.cache.shown()) {
-            m.on_mesh(f.generation, f.live);
+            m.on_mesh(f.generation, f.live, f.step);
         }
         let note = self.view_note();
         let labels = self.study.side_by_side().map(|a| {

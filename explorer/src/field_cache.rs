@@ -1,5 +1,7 @@
 //! The fields the screen needs, as they arrive from the worker: the converged fields of the
-//! steps already seen (cleared when a newer solution arrives), the live iterate of a running
+//! steps already seen (cleared when a newer solution arrives; the oldest dropped past
+//! [`STEPS_BUDGET_BYTES`], so a large result scrubbed or played end to end holds a few steps,
+//! not all), the live iterate of a running
 //! solve (or the stored picture standing in for it), the fields on screen and the step
 //! requested, the contact histories of the newest solution or iterate, and the probe (the picked
 //! node and its history).
@@ -11,11 +13,28 @@ use lopin_core::post::ContactHistory;
 use std::collections::HashMap;
 use std::sync::Arc;
 
+/// Most bytes of converged step fields kept: a small scene keeps every step, a result of a
+/// million dofs (20 MB a step) about 25.
+pub const STEPS_BUDGET_BYTES: usize = 512 << 20;
+
+/// Bytes of one step's fields.
+fn bytes_of(f: &StepFields) -> usize {
+    8 * f
+        .subs
+        .iter()
+        .map(|s| s.u.len() + s.v.len() + s.von_mises.len())
+        .sum::<usize>()
+}
+
 /// Cached fields, contact histories and the probe.
 #[derive(Default)]
 pub struct FieldCache {
     /// Converged fields per step, all of generation `generation`.
     steps: HashMap<usize, Arc<StepFields>>,
+    /// The cached steps, oldest first.
+    order: std::collections::VecDeque<usize>,
+    /// Bytes of the cached steps.
+    bytes: usize,
     generation: u64,
     /// The newest live iterate of the running solve.
     live: Option<Arc<StepFields>>,
@@ -107,12 +126,26 @@ impl FieldCache {
         } else {
             if f.generation != self.generation {
                 self.steps.clear();
+                self.order.clear();
+                self.bytes = 0;
                 self.generation = f.generation;
             }
             if self.requested_step == Some(f.step) {
                 self.requested_step = None;
             }
-            self.steps.insert(f.step, f);
+            self.bytes += bytes_of(&f);
+            if let Some(old) = self.steps.insert(f.step, f.clone()) {
+                self.bytes -= bytes_of(&old);
+                self.order.retain(|&s| s != f.step);
+            }
+            self.order.push_back(f.step);
+            while self.bytes > STEPS_BUDGET_BYTES && self.order.len() > 1 {
+                if let Some(s) = self.order.pop_front() {
+                    if let Some(old) = self.steps.remove(&s) {
+                        self.bytes -= bytes_of(&old);
+                    }
+                }
+            }
         }
     }
 

@@ -101,14 +101,23 @@ pub struct ProbeSeries {
 /// The histories and spectrum of node `node` of substructure `sub`.
 pub fn probe(solver: &Solver, sol: &Solution, sub: usize, node: usize) -> ProbeSeries {
     let p = solver.problem();
-    let (speed, von_mises, velocity) = probe_steps(solver, sol, sub, node);
-    let dt = p.time.dt;
-    let steps = shock_spectrum::step_accelerations(&velocity, dt);
+    let (von_mises, velocity) = probe_steps(solver, sol, sub, node);
+    probe_series(&velocity, von_mises, p.time.dt, p.time.end())
+}
+
+/// The probe's histories and spectrum from a node's velocity and von Mises stress at every
+/// step m = 0..=N of an interval of length `end` in steps of `dt`.
+pub fn probe_series(velocity: &[[f64; 3]], von_mises: Vec<f64>, dt: f64, end: f64) -> ProbeSeries {
+    let speed = velocity
+        .iter()
+        .map(|v| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt())
+        .collect();
+    let steps = shock_spectrum::step_accelerations(velocity, dt);
     let acceleration = steps
         .iter()
         .map(|a| (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt())
         .collect();
-    let (low, high) = shock_spectrum::default_band(dt, p.time.end());
+    let (low, high) = shock_spectrum::default_band(dt, end);
     let freqs = shock_spectrum::frequencies(low, high, 12);
     let zeta = shock_spectrum::ratio_of_quality(PROBE_Q);
     let spectrum = freqs
@@ -124,14 +133,14 @@ pub fn probe(solver: &Solver, sol: &Solution, sub: usize, node: usize) -> ProbeS
     }
 }
 
-/// |v|, node-averaged von Mises stress and velocity of node `node` of substructure `sub`, at
-/// every step.
+/// Node-averaged von Mises stress and velocity of node `node` of substructure `sub`, at every
+/// step.
 fn probe_steps(
     solver: &Solver,
     sol: &Solution,
     sub: usize,
     node: usize,
-) -> (Vec<f64>, Vec<f64>, Vec<[f64; 3]>) {
+) -> (Vec<f64>, Vec<[f64; 3]>) {
     let p = solver.problem();
     let s = &p.subs[sub];
     let around: Vec<&Element> = s
@@ -140,12 +149,10 @@ fn probe_steps(
         .iter()
         .filter(|e| e.nodes().contains(&node))
         .collect();
-    let mut speed = Vec::with_capacity(p.time.steps + 1);
     let mut vm = Vec::with_capacity(p.time.steps + 1);
     let mut velocity = Vec::with_capacity(p.time.steps + 1);
     post::replay(solver, sol, sub, p.time.steps, &mut |_, st, _, _| {
         let v = &st.v[3 * node..3 * node + 3];
-        speed.push((v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt());
         velocity.push([v[0], v[1], v[2]]);
         let mean = around
             .iter()
@@ -154,7 +161,7 @@ fn probe_steps(
             / around.len().max(1) as f64;
         vm.push(mean);
     });
-    (speed, vm, velocity)
+    (vm, velocity)
 }
 
 #[cfg(test)]

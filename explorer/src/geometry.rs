@@ -30,6 +30,10 @@ pub struct SubGeometry {
     pub centroid: Vec3,
     /// Contact node of each mesh node, if any.
     pub contact: Vec<Option<ContactNode>>,
+    /// Per boundary face: whether it lies inside the assembly, on a face of another
+    /// substructure, not wholly on a contact (hidden by its neighbours when the view is assembled;
+    /// set by [`SceneGeometry::from_subs`]).
+    pub enclosed: Vec<bool>,
 }
 
 /// Geometry of the whole scene.
@@ -81,6 +85,7 @@ impl SceneGeometry {
                 let centroid = nodes.iter().copied().sum::<Vec3>() / (nodes.len().max(1) as f32);
                 SubGeometry {
                     contact: vec![None; nodes.len()],
+                    enclosed: Vec::new(),
                     nodes,
                     faces,
                     elements,
@@ -124,6 +129,12 @@ impl SceneGeometry {
                 }
             }
         }
+        SceneGeometry::from_subs(subs)
+    }
+
+    /// The geometry of these substructures (a stored run's, read back).
+    pub fn from_subs(mut subs: Vec<SubGeometry>) -> SceneGeometry {
+        mark_enclosed(&mut subs);
         let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
         for s in &subs {
             for &p in &s.nodes {
@@ -147,8 +158,105 @@ impl SceneGeometry {
         (self.subs[i].centroid - self.centre()) * factor
     }
 
+    /// Number of surface triangles drawn when the view is assembled (enclosed faces left out).
+    pub fn assembled_triangle_count(&self) -> usize {
+        self.subs
+            .iter()
+            .flat_map(|s| s.faces.iter().zip(&s.enclosed))
+            .filter(|(_, &e)| !e)
+            .map(|(f, _)| if f[2] == f[3] { 1 } else { 2 })
+            .sum()
+    }
+
     /// Number of surface triangles.
     pub fn triangle_count(&self) -> usize {
-        self.subs.iter().map(|s| 2 * s.faces.len()).sum()
+        self.subs
+            .iter()
+            .flat_map(|s| &s.faces)
+            .map(|f| if f[2] == f[3] { 1 } else { 2 })
+            .sum()
+    }
+}
+
+/// Marks each substructure's boundary faces that coincide with a boundary face of another
+/// substructure (the same corner positions) where neither lies wholly on a contact: the faces
+/// of a perfect interface, which the two sides hide from each other while the view is
+/// assembled (a contact's faces stay, since a contact may open). Faces of non-matching interfaces have no twin and stay drawn.
+fn mark_enclosed(subs: &mut [SubGeometry]) {
+    type Key = [[u32; 3]; 4];
+    // the distinct corners, sorted (a triangle's repeated node may be any of its three on
+    // the other side, whose ordering is reversed)
+    let key = |g: &SubGeometry, f: &[usize; 4]| -> Key {
+        let mut corners: Vec<[u32; 3]> = f
+            .iter()
+            .map(|&n| g.nodes[n].to_array().map(f32::to_bits))
+            .collect();
+        corners.sort_unstable();
+        corners.dedup();
+        let mut k = [[u32::MAX; 3]; 4];
+        k[..corners.len()].copy_from_slice(&corners);
+        k
+    };
+    let mut first: std::collections::HashMap<Key, (usize, usize)> = Default::default();
+    let mut twins = Vec::new();
+    for (i, g) in subs.iter().enumerate() {
+        for (k, f) in g.faces.iter().enumerate() {
+            if f.iter().all(|&n| g.contact[n].is_some()) {
+                continue;
+            }
+            match first.entry(key(g, f)) {
+                std::collections::hash_map::Entry::Occupied(e) => {
+                    let &(j, l) = e.get();
+                    if j != i {
+                        twins.push((i, k));
+                        twins.push((j, l));
+                    }
+                }
+                std::collections::hash_map::Entry::Vacant(e) => {
+                    e.insert((i, k));
+                }
+            }
+        }
+    }
+    for g in subs.iter_mut() {
+        g.enclosed = vec![false; g.faces.len()];
+    }
+    for (i, k) in twins {
+        subs[i].enclosed[k] = true;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use lopin_core::scene;
+
+    fn geometry(name: &str, split: usize) -> SceneGeometry {
+        let overrides = scene::Overrides {
+            split,
+            ..Default::default()
+        };
+        SceneGeometry::of(&scene::open(name, &overrides).expect("opens").problem)
+    }
+
+    /// Splitting the blocks of `two-blocks` (hexahedra) and `granular-poly` (tetrahedra) into
+    /// more substructures adds only faces between two of them: the faces drawn when the view is
+    /// assembled are the same number, those of the outer surface and the contacts, and every
+    /// face the split added is enclosed, on both sides.
+    #[test]
+    fn a_split_adds_only_enclosed_faces() {
+        for name in ["two-blocks", "granular-poly"] {
+            let (one, two) = (geometry(name, 1), geometry(name, 2));
+            assert!(two.subs.len() > one.subs.len(), "{name}: split");
+            assert_eq!(
+                one.assembled_triangle_count(),
+                two.assembled_triangle_count(),
+                "{name}"
+            );
+            let added = two.triangle_count() - one.triangle_count();
+            assert!(added > 0, "{name}");
+            let enclosed = |g: &SceneGeometry| g.triangle_count() - g.assembled_triangle_count();
+            assert_eq!(enclosed(&two) - enclosed(&one), added, "{name}");
+        }
     }
 }

@@ -34,6 +34,9 @@ mod schedule;
 pub mod section;
 mod service;
 pub mod solve_view;
+pub mod stored_run;
+#[cfg(not(target_arch = "wasm32"))]
+mod stored_side;
 pub mod study;
 pub mod study_panel;
 pub mod study_view;
@@ -42,7 +45,7 @@ pub mod view3d;
 pub mod wire;
 pub mod worker;
 
-pub use app::{ExplorerApp, Options};
+pub use app::{ExplorerApp, Loaded, Options};
 pub use recorder::{RecordedSolve, RecorderFactory, SolveRecorder};
 pub use remote::Connector;
 pub use result_folder::{FolderOpener, OpenedFolder};

@@ -11,8 +11,12 @@
 //! report latency; over the whole run, the frame intervals while idle, while the background
 //! study solves and while a re-solve runs, and in each of these states eframe's time per frame
 //! outside acquiring and presenting the surface (egui, tessellation, command encoding: what is
-//! left of a frame is the rasterizer's). The results are printed and written as JSON, then the
-//! window closes.
+//! left of a frame is the rasterizer's). A run opened from its stored fields has no slider to
+//! move ([`Measure::stored`]): after its first picture the camera orbits for [`ORBIT_FRAMES`]
+//! frames (the frame interval of an orbit), then the time scrubber moves to each step of
+//! [`SCRUB_AT`] in turn (the time to the picture of that step: read, mesh built, presented), and
+//! the report adds the process's peak resident memory. The results are printed and written as
+//! JSON, then the window closes.
 
 use crate::protocol::SolveReport;
 use lopin_core::counters::Instant;
@@ -26,6 +30,13 @@ const SETTLE_FRAMES: usize = 20;
 /// Longest idle wait for the background study, s.
 pub const STUDY_MAX_S: f64 = 90.0;
 
+/// Frames the camera orbits for, in a stored run's measurement.
+pub const ORBIT_FRAMES: usize = 60;
+/// Drag per orbit frame, pixels (a full turn in about 13 frames' worth of 60).
+const ORBIT_PX: f32 = 12.0;
+/// Where the time scrubber moves in a stored run's measurement, as fractions of the interval.
+pub const SCRUB_AT: [f64; 6] = [0.25, 0.5, 0.75, 1.0, 0.1, 0.6];
+
 /// What the explorer does next.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Action {
@@ -33,6 +44,10 @@ pub enum Action {
     Wait,
     /// Set the friction slider to this value (at the start of this frame).
     Move(f64),
+    /// Orbit the camera by a drag of this many pixels.
+    Orbit(f32),
+    /// Move the time scrubber to this fraction of the interval.
+    Scrub(f64),
     /// Write the results and close.
     Close,
 }
@@ -58,7 +73,22 @@ enum Phase {
     Study,
     /// Moving the slider.
     Moves,
+    /// Orbiting the camera (stored runs).
+    Orbit,
+    /// Moving the time scrubber (stored runs).
+    Scrub,
     Done,
+}
+
+/// One move of the time scrubber as measured.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+struct ScrubRecord {
+    /// The step moved to.
+    step: Option<usize>,
+    /// Input → mesh of that step built, s.
+    built_s: Option<f64>,
+    /// Input → start of the frame after it, s.
+    picture_s: Option<f64>,
 }
 
 /// One slider move as measured.
@@ -89,6 +119,14 @@ struct MoveRecord {
 #[derive(Debug, Clone)]
 pub struct Measure {
     path: PathBuf,
+    /// A stored run: orbit and scrub instead of moving the slider.
+    stored: bool,
+    orbit_frames: Vec<f64>,
+    scrubs: Vec<ScrubRecord>,
+    /// Frame start of the newest scrub.
+    scrub_start: Option<Instant>,
+    /// Surface triangles of the scene.
+    triangles: usize,
     /// When the scene or folder began to load.
     opened: Instant,
     /// From `opened` to the frame that found the first solve converged (or the stored
@@ -146,6 +184,11 @@ impl Measure {
     pub fn new(path: PathBuf) -> Measure {
         Measure {
             path,
+            stored: false,
+            orbit_frames: Vec::new(),
+            scrubs: Vec::new(),
+            scrub_start: None,
+            triangles: 0,
             opened: Instant::now(),
             first_converged_s: None,
             phase: Phase::Start,
@@ -167,6 +210,26 @@ impl Measure {
         }
     }
 
+    /// The measurement of a run opened from its stored fields (orbit and scrub).
+    pub fn stored(path: PathBuf) -> Measure {
+        Measure {
+            stored: true,
+            ..Measure::new(path)
+        }
+    }
+
+    /// The scene's surface triangles, for the report.
+    pub fn set_triangles(&mut self, triangles: usize) {
+        self.triangles = triangles;
+    }
+
+    /// The step the scrubber was moved to by [`Action::Scrub`] (after clamping).
+    pub fn on_scrub(&mut self, step: usize) {
+        if let Some(s) = self.scrubs.last_mut() {
+            s.step = Some(step);
+        }
+    }
+
     /// Counts the time to the first converged picture from `t` (when loading began) instead
     /// of from the measurement's creation.
     pub fn opened_at(&mut self, t: Instant) {
@@ -185,9 +248,17 @@ impl Measure {
                 m.converged_picture_s = Some(now);
             }
         }
+        if let (Some(t0), Some(s)) = (self.scrub_start, self.scrubs.last_mut()) {
+            if self.pending[1] && s.picture_s.is_none() && s.built_s.is_some() {
+                s.picture_s = Some(t0.elapsed().as_secs_f64());
+            }
+        }
         self.pending = [false; 2];
         if self.phase == Phase::Start || dt <= 0.0 {
             return;
+        }
+        if self.phase == Phase::Orbit {
+            self.orbit_frames.push(dt);
         }
         self.bin(previous).0.push(dt);
     }
@@ -231,8 +302,15 @@ impl Measure {
         }
     }
 
-    /// A mesh was built from fields of `generation` (`live`: not converged yet).
-    pub fn on_mesh(&mut self, generation: u64, live: bool) {
+    /// A mesh was built from fields of `generation` at `step` (`live`: not converged yet).
+    pub fn on_mesh(&mut self, generation: u64, live: bool, step: usize) {
+        if let (Some(t0), Some(s)) = (self.scrub_start, self.scrubs.last_mut()) {
+            if s.step == Some(step) && s.built_s.is_none() && !live {
+                s.built_s = Some(t0.elapsed().as_secs_f64());
+                self.pending[1] = true;
+            }
+            return;
+        }
         let (Some(t0), Some(m)) = (self.move_start, self.moves.last_mut()) else {
             return;
         };
@@ -271,10 +349,41 @@ impl Measure {
                     self.first_converged_s = Some(self.opened.elapsed().as_secs_f64());
                 }
                 if s.converged && self.settled() {
-                    self.phase = Phase::Study;
-                    self.study_started = Some(Instant::now());
+                    if self.stored {
+                        self.phase = Phase::Orbit;
+                    } else {
+                        self.phase = Phase::Study;
+                        self.study_started = Some(Instant::now());
+                    }
                 }
                 Action::Wait
+            }
+            Phase::Orbit => {
+                if self.orbit_frames.len() >= ORBIT_FRAMES {
+                    self.phase = Phase::Scrub;
+                    self.settle = SETTLE_FRAMES;
+                    return Action::Wait;
+                }
+                Action::Orbit(ORBIT_PX)
+            }
+            Phase::Scrub => {
+                let done = self.scrubs.last().is_none_or(|s| s.picture_s.is_some());
+                if !(done && self.settled()) {
+                    return Action::Wait;
+                }
+                let Some(&at) = SCRUB_AT.get(self.scrubs.len()) else {
+                    self.phase = Phase::Done;
+                    self.report_stored();
+                    return Action::Close;
+                };
+                self.scrubs.push(ScrubRecord {
+                    step: None,
+                    built_s: None,
+                    picture_s: None,
+                });
+                self.scrub_start = Some(Instant::now());
+                self.settle = SETTLE_FRAMES;
+                Action::Scrub(at)
             }
             Phase::Study => {
                 let waited = self
@@ -329,6 +438,30 @@ impl Measure {
         true
     }
 
+    /// The stored run's report: first picture, orbit frames, scrubs and peak memory.
+    fn report_stored(&self) {
+        let orbit = stats(&self.orbit_frames);
+        let report = serde_json::json!({
+            "open_to_first_picture_s": self.first_converged_s,
+            "triangles": self.triangles,
+            "orbit_frame_interval_s": orbit,
+            "fps_orbit_median": 1.0 / orbit.median,
+            "scrubs": self.scrubs,
+            "scrub_built_s": stats(&self.scrubs.iter().filter_map(|s| s.built_s).collect::<Vec<_>>()),
+            "scrub_picture_s": stats(&self.scrubs.iter().filter_map(|s| s.picture_s).collect::<Vec<_>>()),
+            "peak_memory_bytes": peak_memory_bytes(),
+        });
+        self.write(&report);
+    }
+
+    fn write(&self, report: &serde_json::Value) {
+        let text = format!("{report:#}\n");
+        print!("{text}");
+        if let Err(e) = std::fs::write(&self.path, &text) {
+            eprintln!("error: cannot write {}: {e}", self.path.display());
+        }
+    }
+
     fn report(&self) {
         let ms = |v: &[f64]| stats(&v.iter().map(|x| 1e3 * x).collect::<Vec<_>>());
         let pick = |f: fn(&MoveRecord) -> Option<f64>, stored: Option<bool>| -> Vec<f64> {
@@ -368,10 +501,14 @@ impl Measure {
             "frame_cpu_ms_background_study": ms(&self.background_cpu),
             "frame_cpu_ms_while_solving": ms(&self.busy_cpu),
         });
-        let text = format!("{report:#}\n");
-        print!("{text}");
-        if let Err(e) = std::fs::write(&self.path, &text) {
-            eprintln!("error: cannot write {}: {e}", self.path.display());
-        }
+        self.write(&report);
     }
+}
+
+/// The process's peak resident memory, bytes (`VmHWM` of /proc/self/status; None elsewhere).
+fn peak_memory_bytes() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024)
 }

@@ -193,7 +193,15 @@ pub fn build(
             .collect();
         let clip = |n: usize| inputs.section.map_or(-1.0, |s| s.side(g.nodes[n]));
         let body = i as f32;
-        for face in &g.faces {
+        // assembled, a face between two substructures is hidden by both: left out (a section
+        // draws its own cut faces)
+        let assembled = inputs.explode == 0.0;
+        for (face, _) in g
+            .faces
+            .iter()
+            .zip(&g.enclosed)
+            .filter(|(_, &e)| !(assembled && e))
+        {
             // interface quantities colour only the faces lying wholly on a contact interface
             let on_face = |n: usize| {
                 if q.on_interfaces() && face.iter().any(|&m| values[i][m].is_none()) {
@@ -202,7 +210,10 @@ pub fn build(
                     values[i][n]
                 }
             };
-            for tri in [[face[0], face[1], face[2]], [face[0], face[2], face[3]]] {
+            // a triangle is stored as a quadrangle with its last node repeated
+            let tris = [[face[0], face[1], face[2]], [face[0], face[2], face[3]]];
+            let count = if face[2] == face[3] { 1 } else { 2 };
+            for tri in tris.into_iter().take(count) {
                 let p = tri.map(|n| drawn[n]);
                 let normal = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
                 for &n in &tri {

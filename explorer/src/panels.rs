@@ -424,7 +424,14 @@ pub fn sizes(
         );
         row("dofs", i.dofs.to_string());
         row("time steps", format!("{} × {:.3} µs", i.steps, i.dt * 1e6));
-        row("triangles", geometry.triangle_count().to_string());
+        row(
+            "triangles",
+            format!(
+                "{} ({} assembled)",
+                geometry.triangle_count(),
+                geometry.assembled_triangle_count()
+            ),
+        );
     });
     ui.strong("Timings (s, whole session)");
     let Some(r) = solve.reports().last() else {

@@ -156,6 +156,21 @@ impl FrictionTargets {
         FrictionTargets { values }
     }
 
+    /// The targets with these values: every contact, then each zone (None: no contact there).
+    pub fn from_values(values: Vec<Option<f64>>) -> FrictionTargets {
+        let values = if values.is_empty() {
+            vec![None]
+        } else {
+            values
+        };
+        FrictionTargets { values }
+    }
+
+    /// Each target's value: every contact, then each zone.
+    pub fn values(&self) -> &[Option<f64>] {
+        &self.values
+    }
+
     /// The zones the slider can move alone (those with a contact interface).
     pub fn zones(&self) -> impl Iterator<Item = usize> + '_ {
         (0..self.values.len() - 1).filter(|&z| self.values[slot(Some(z))].is_some())

@@ -140,6 +140,21 @@ pub struct ProbeHistory {
     pub spectrum: Vec<(f64, [f64; 3])>,
 }
 
+impl ProbeHistory {
+    /// The history of node `node` of substructure `sub` from its series, for `generation`.
+    pub fn new(generation: u64, sub: usize, node: usize, s: crate::fields::ProbeSeries) -> Self {
+        ProbeHistory {
+            generation,
+            sub,
+            node,
+            speed: s.speed,
+            von_mises: s.von_mises,
+            acceleration: s.acceleration,
+            spectrum: s.spectrum,
+        }
+    }
+}
+
 /// What the solver side tells the UI.
 #[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub enum Event {

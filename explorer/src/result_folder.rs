@@ -8,6 +8,7 @@
 //! solve of its own parameters (METHOD §8), which converges in the iterations its windows need
 //! to see that nothing changed, and gives every field of every step.
 
+use crate::app::Loaded;
 use crate::params::Params;
 use lopin_core::state::InterfaceState;
 use lopin_core::{scene, Parameter, Problem, Solution};
@@ -164,18 +165,17 @@ impl std::fmt::Debug for OpenedFolder {
 pub struct FolderOpener(Arc<OpenFolder>);
 
 /// What a [`FolderOpener`] calls.
-type OpenFolder = dyn Fn(&Path) -> Result<OpenedFolder, String> + Send + Sync;
+type OpenFolder = dyn Fn(&Path) -> Result<Loaded, String> + Send + Sync;
 
 impl FolderOpener {
     /// Wraps a closure.
-    pub fn new(
-        open: impl Fn(&Path) -> Result<OpenedFolder, String> + Send + Sync + 'static,
-    ) -> Self {
+    pub fn new(open: impl Fn(&Path) -> Result<Loaded, String> + Send + Sync + 'static) -> Self {
         FolderOpener(Arc::new(open))
     }
 
-    /// Opens `path`.
-    pub fn open(&self, path: &Path) -> Result<OpenedFolder, String> {
+    /// Opens `path`: a folder whose scene is rebuilt ([`Loaded::Folder`]) or a run with stored
+    /// step fields ([`Loaded::Stored`]).
+    pub fn open(&self, path: &Path) -> Result<Loaded, String> {
         (self.0)(path)
     }
 }

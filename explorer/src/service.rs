@@ -773,14 +773,7 @@ impl Service {
             return;
         }
         let h = fields::probe(&self.solver, &c.solution, sub, node);
-        self.send(Event::Probe(Arc::new(ProbeHistory {
-            generation: c.generation,
-            sub,
-            node,
-            speed: h.speed,
-            von_mises: h.von_mises,
-            acceleration: h.acceleration,
-            spectrum: h.spectrum,
-        })));
+        let history = ProbeHistory::new(c.generation, sub, node, h);
+        self.send(Event::Probe(Arc::new(history)));
     }
 }

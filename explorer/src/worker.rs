@@ -16,6 +16,8 @@ use crate::result_folder::RowSource;
 #[cfg(not(target_arch = "wasm32"))]
 use crate::schedule::{serve, Next};
 use crate::service::Service;
+#[cfg(not(target_arch = "wasm32"))]
+use crate::stored_side::StoredSide;
 use crate::wire::{self, Start, ToSolver};
 use lopin_core::counters::Instant;
 use lopin_core::Problem;
@@ -114,6 +116,36 @@ impl Worker {
             generation: 0,
             link: Link::Remote { port, shown: 0 },
         })
+    }
+
+    /// The worker of a run opened from its stored fields: a thread that answers from the
+    /// run's [`crate::stored_run::FieldStore`] ([`StoredSide`]); nothing is factorized. Not in
+    /// the browser, which opens scenes only.
+    pub fn spawn_stored(
+        run: &crate::stored_run::StoredRun,
+        wake: Arc<dyn Fn() + Send + Sync>,
+    ) -> lopin_core::Result<Worker> {
+        #[cfg(target_arch = "wasm32")]
+        {
+            let _ = (run, wake);
+            Err(lopin_core::LopinError::setting(
+                "folder",
+                "stored results open in the desktop explorer",
+            ))
+        }
+        #[cfg(not(target_arch = "wasm32"))]
+        {
+            let (events, erx) = channel();
+            let display_step = DisplayStep::default();
+            let side = StoredSide::new(run, display_step.clone(), events, wake);
+            Ok(Worker {
+                events: erx,
+                pending: Default::default(),
+                display_step,
+                generation: 0,
+                link: stored_link(side)?,
+            })
+        }
     }
 
     /// Whether the solver runs behind a byte link ([`Worker::spawn_remote`]).
@@ -371,6 +403,26 @@ fn thread_link(start: StartService) -> lopin_core::Result<Link> {
                     |(service, queue)| service.work(queue),
                 );
             }
+        })
+        .map_err(|e| lopin_core::LopinError::setting("thread", format!("cannot start: {e}")))?;
+    Ok(Link::Thread(ctx))
+}
+
+/// A thread answering from stored fields.
+#[cfg(not(target_arch = "wasm32"))]
+fn stored_link(side: StoredSide) -> lopin_core::Result<Link> {
+    let (ctx, crx) = channel();
+    std::thread::Builder::new()
+        .name("lopin-stored".into())
+        .spawn(move || {
+            let mut side = side;
+            serve(
+                &crx,
+                &mut side,
+                Next::Wait(None),
+                StoredSide::receive,
+                |_| Next::Wait(None),
+            );
         })
         .map_err(|e| lopin_core::LopinError::setting("thread", format!("cannot start: {e}")))?;
     Ok(Link::Thread(ctx))

@@ -1,4 +1,5 @@
-//! `lopin export RUN_DIR`: VTU files and/or a Rerun recording from a run saved with
+//! `lopin export RUN_DIR`: VTU files, a Rerun recording and/or the stored step fields the
+//! explorer opens large runs from (`RUN_DIR/fields.bin`), from a run saved with
 //! `lopin run --out RUN_DIR`, without solving again: the solver is rebuilt from run.json and
 //! the fields are replayed from the stored ŝ (METHOD §6 "at convergence"). `solution.bin` is
 //! checked whole before anything is written: checksum, shapes, finite values, and that it
@@ -13,6 +14,7 @@ use lopin_core::counters::Instant;
 
 use super::outputs::{describe, RerunArgs, FLUSH_TIMEOUT};
 use crate::export;
+use crate::run_dir::fields_file::{self, FIELDS_BIN};
 use crate::run_dir::run_json::RunRecord;
 
 /// Options of `lopin export`.
@@ -23,6 +25,10 @@ pub struct ExportArgs {
     /// Write one VTU file per substructure and time step, and run.pvd, to DIR.
     #[arg(long, value_name = "DIR")]
     pub vtu: Option<PathBuf>,
+    /// Store every step's fields in RUN_DIR/fields.bin, as `lopin run --out DIR --fields` does,
+    /// so `lopin view RUN_DIR` opens the run without its scene.
+    #[arg(long)]
+    pub fields: bool,
     #[command(flatten)]
     pub rerun: RerunArgs,
 }
@@ -30,8 +36,8 @@ pub struct ExportArgs {
 pub fn export_cmd(args: &ExportArgs) -> anyhow::Result<ExitCode> {
     let rerun_target = args.rerun.target()?;
     anyhow::ensure!(
-        args.vtu.is_some() || rerun_target.is_some(),
-        "nothing to export: give --vtu DIR, --rerun FILE.rrd or --rerun-connect ADDR"
+        args.vtu.is_some() || rerun_target.is_some() || args.fields,
+        "nothing to export: give --vtu DIR, --fields, --rerun FILE.rrd or --rerun-connect ADDR"
     );
     let start = Instant::now();
     let (record, solver, solution) = RunRecord::open_run(&args.run)?;
@@ -46,6 +52,18 @@ pub fn export_cmd(args: &ExportArgs) -> anyhow::Result<ExitCode> {
             e.files,
             e.bytes,
             dir.display()
+        );
+    }
+    if args.fields {
+        let bytes = fields_file::write_for_run(&args.run, &record, &solver, &solution, &history)?;
+        let mut r = record.clone();
+        if !r.files.iter().any(|f| f == FIELDS_BIN) {
+            r.files.push(FIELDS_BIN.into());
+        }
+        r.write(&args.run)?;
+        println!(
+            "fields: {bytes} bytes in {}",
+            args.run.join(FIELDS_BIN).display()
         );
     }
     if rerun_target.is_some() {

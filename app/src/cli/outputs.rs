@@ -71,6 +71,11 @@ pub struct OutputArgs {
     /// physical times), to DIR for ParaView.
     #[arg(long, value_name = "DIR")]
     pub vtu: Option<PathBuf>,
+    /// With --out: also store every step's fields in DIR/fields.bin (displacement, velocity,
+    /// von Mises stress in single precision, with the scene's surfaces), so `lopin view DIR`
+    /// opens the run without its scene, factorizations or replay: for large runs.
+    #[arg(long, requires = "out")]
+    pub fields: bool,
     #[command(flatten)]
     pub rerun: RerunArgs,
 }

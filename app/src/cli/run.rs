@@ -18,6 +18,7 @@ use super::outputs::{describe, OutputArgs, FLUSH_TIMEOUT};
 use super::report::{Latin, RunReport, SolveReport};
 use super::setup::{prepare, SceneArgs};
 use crate::export;
+use crate::run_dir::fields_file::{self, FIELDS_BIN};
 use crate::run_dir::run_json::{Outcome, RunRecord};
 
 /// Options of `lopin run`.
@@ -107,7 +108,8 @@ pub fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     // outputs: fields replayed once for VTU and the recording
     let t_out = Instant::now();
     let mut written = Written::default();
-    let mut history = if args.outputs.vtu.is_some() || recording {
+    let fields = args.outputs.fields;
+    let mut history = if args.outputs.vtu.is_some() || recording || fields {
         post::history(solver, &solution)
     } else {
         Vec::new()
@@ -120,8 +122,9 @@ pub fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
             bytes: e.bytes,
         });
     }
-    if recording {
-        // distributed: the recording is written on rank 0 from every rank's fields
+    if recording || fields {
+        // distributed: the recording and the stored fields are written on rank 0 from every
+        // rank's fields
         post::gather_history(solver, &mut history);
     }
     if recording || args.outputs.out.is_some() {
@@ -166,7 +169,18 @@ pub fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     if let Some(dir) = &args.outputs.out {
         std::fs::create_dir_all(dir)
             .with_context(|| format!("--out {}: creating the folder", dir.display()))?;
-        record.write_with_solution(dir, &solution)?;
+        let mut others = Vec::new();
+        if fields {
+            let t = Instant::now();
+            let bytes = fields_file::write_for_run(dir, &record, solver, &solution, &history)?;
+            written.fields = Some(FieldsWritten {
+                file: dir.join(FIELDS_BIN).display().to_string(),
+                bytes,
+                seconds: t.elapsed().as_secs_f64(),
+            });
+            others.push(FIELDS_BIN);
+        }
+        record.write_with_solution(dir, &solution, &others)?;
         written.out = Some(dir.display().to_string());
     }
     if let Some(dir) = &args.outputs.vtu {
@@ -282,12 +296,23 @@ struct Written {
     rerun: Option<RerunWritten>,
     #[serde(skip_serializing_if = "Option::is_none")]
     vtu: Option<VtuWritten>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    fields: Option<FieldsWritten>,
 }
 
 impl Written {
     fn is_empty(&self) -> bool {
-        self.out.is_none() && self.rerun.is_none() && self.vtu.is_none()
+        self.out.is_none() && self.rerun.is_none() && self.vtu.is_none() && self.fields.is_none()
     }
+}
+
+/// The stored step fields a run wrote.
+#[derive(Debug, Serialize)]
+struct FieldsWritten {
+    file: String,
+    bytes: u64,
+    /// Time to compute the stresses and write the file, s.
+    seconds: f64,
 }
 
 /// The recording a run wrote.

@@ -3,9 +3,11 @@
 //! binary interface fields with their fingerprint and checksum ([`solution_file`]), the
 //! fingerprint of what a file belongs to and the crc32 checksums ([`fingerprint`]), and JSON
 //! files that carry their own checksum ([`checked_json`], the sweep's header and records), and
-//! the converged states a sweep or study resumes from ([`saved_states`]).
+//! the converged states a sweep or study resumes from ([`saved_states`]), and a run's stored
+//! step fields for the explorer ([`fields_file`]).
 
 pub mod checked_json;
+pub mod fields_file;
 pub mod fingerprint;
 pub mod run_json;
 pub mod saved_states;

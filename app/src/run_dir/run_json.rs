@@ -227,8 +227,14 @@ impl RunRecord {
         )
     }
 
-    /// Writes `dir/solution.bin` bound to this record, then `dir/run.json` listing it.
-    pub fn write_with_solution(&self, dir: &Path, solution: &Solution) -> anyhow::Result<()> {
+    /// Writes `dir/solution.bin` bound to this record, then `dir/run.json` listing it and the
+    /// `others` files already written there.
+    pub fn write_with_solution(
+        &self,
+        dir: &Path,
+        solution: &Solution,
+        others: &[&str],
+    ) -> anyhow::Result<()> {
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
         super::write_atomic(
             &dir.join(super::SOLUTION_BIN),
@@ -236,6 +242,7 @@ impl RunRecord {
         )?;
         let mut r = self.clone();
         r.files = vec![super::SOLUTION_BIN.into()];
+        r.files.extend(others.iter().map(|f| f.to_string()));
         r.write(dir)
     }
 
