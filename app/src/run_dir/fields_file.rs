@@ -280,7 +280,9 @@ pub fn open(path: &Path, fingerprint: Fingerprint) -> anyhow::Result<(Head, Fiel
     );
     let head_len = word(16);
     ensure!(
-        head_len + PREFIX as u64 + 4 <= len,
+        head_len
+            .checked_add(PREFIX as u64 + 4)
+            .is_some_and(|end| end <= len),
         "{at}: cut short in its head ({len} bytes, the head announces {head_len})"
     );
     let mut rest = vec![0u8; head_len as usize + 4];
@@ -298,7 +300,13 @@ pub fn open(path: &Path, fingerprint: Fingerprint) -> anyhow::Result<(Head, Fiel
     check_head(&head).with_context(|| format!("{at}: its head"))?;
     let nodes = head.nodes();
     let base = PREFIX as u64 + head_len + 4;
-    let expected = base + (head.steps as u64 + 1) * block_bytes(nodes) as u64;
+    let expected = (head.steps as u64)
+        .checked_add(1)
+        .and_then(|m| m.checked_mul(block_bytes(nodes) as u64))
+        .and_then(|b| b.checked_add(base));
+    let Some(expected) = expected else {
+        bail!("{at}: its head announces more steps than a file can hold")
+    };
     ensure!(
         len == expected,
         "{at}: {len} bytes, but {} steps of {nodes} nodes take {expected} (cut short or padded)",
