@@ -10,8 +10,9 @@
 //!
 //! Checked all along: no panic on any thread, every frame draws the window (shapes and the 3D
 //! view's paint callback, two side by side), a rendered frame now and then, every finished
-//! solve converged or was cancelled (a value the solver refuses fails with its message, and
-//! never a solve midway), and at the end, with the scene's values back, a converged solve.
+//! solve converged, was cancelled or spent its iteration limit with a finite η (settings at the
+//! ends of their sliders that LATIN does not converge in max_iter iterations; a value the solver
+//! refuses fails with its message, and never a solve midway), and at the end, with the scene's values back, a converged solve.
 //!
 //! `LOPIN_UI_SEED` picks the sequence (decimal or 0x-hexadecimal; default fixed) and
 //! `LOPIN_UI_ACTIONS` its length. A failure prints the seed and the last actions, and writes
@@ -260,6 +261,8 @@ struct Tally {
     renders: usize,
     converged: usize,
     cancelled: usize,
+    /// Solves that spent their iteration limit.
+    unconverged: usize,
     refused: usize,
     refusals: Vec<String>,
     switches: usize,
@@ -436,17 +439,23 @@ impl Run {
                 self.tally.visited.push(app.info.name.clone());
             }
         }
-        // every solve that ended converged or was cancelled
+        // every solve that ended converged, was cancelled, or spent its iteration limit with a
+        // finite η (settings at the ends of their sliders, such as k at its least with the
+        // tolerance at its tightest, that LATIN does not converge in max_iter iterations: the
+        // top bar says so)
         let reports = app.solve.reports();
         for r in &reports[self.checked..] {
+            let spent = r.eta.is_finite() && r.iterations >= r.params.settings.max_iter;
             assert!(
-                r.converged || r.cancelled,
-                "a solve ended neither converged nor cancelled: {r:?}"
+                r.converged || r.cancelled || spent,
+                "a solve ended neither converged nor cancelled nor at its iteration limit: {r:?}"
             );
             if r.converged {
                 self.tally.converged += 1;
-            } else {
+            } else if r.cancelled {
                 self.tally.cancelled += 1;
+            } else {
+                self.tally.unconverged += 1;
             }
         }
         self.checked = reports.len();
@@ -1220,7 +1229,8 @@ fn the_explorer_survives_random_use() {
     let t = &run.tally;
     println!(
         "random UI use: seed {seed}, {actions} actions, {} frames, {} renders in {:.1} s; scenes \
-         {:?}; solves: {} converged, {} cancelled, {} values refused; {} scene switches ({} \
+         {:?}; solves: {} converged, {} cancelled, {} at their iteration limit, {} values \
+         refused; {} scene switches ({} \
          while solving, {} while the study ran); {} probe clicks, {} values typed, {} frames \
          side by side",
         t.frames,
@@ -1229,6 +1239,7 @@ fn the_explorer_survives_random_use() {
         t.visited,
         t.converged,
         t.cancelled,
+        t.unconverged,
         t.refused,
         t.switches,
         t.switches_while_solving,

@@ -192,9 +192,18 @@ pub fn choose(
              whole interval"
                 .to_string(),
         ),
-        (WindowRequest::Auto, WindowRequest::Auto, Task::Interactive) => (
+        (WindowRequest::Auto, WindowRequest::Auto, Task::Interactive) if !contact => (
             None,
-            "auto: the explorer re-solves the whole interval warm after each change".to_string(),
+            "auto: the explorer re-solves the whole interval warm after each change, a scene \
+             without contact converging in few iterations"
+                .to_string(),
+        ),
+        (WindowRequest::Auto, WindowRequest::Auto, Task::Interactive) => (
+            Some(1),
+            "auto: the explorer re-solves a scene with contact warm after each change on \
+             one-step windows, which reach the tolerance fastest from the nearest solved \
+             configuration"
+                .to_string(),
         ),
     };
     WindowChoice { window, reason }
@@ -229,9 +238,10 @@ mod tests {
         assert_eq!(c.window, Some(1));
         let c = choose(Task::Single, None, None, false);
         assert_eq!(c.window, None);
-        for contact in [true, false] {
-            assert_eq!(choose(Task::Interactive, None, None, contact).window, None);
-        }
+        let explorer = choose(Task::Interactive, None, None, true);
+        assert_eq!(explorer.window, Some(1));
+        assert!(explorer.reason.contains("one-step windows"), "{explorer}");
+        assert_eq!(choose(Task::Interactive, None, None, false).window, None);
         let study = choose(Task::Study, None, None, true);
         assert_eq!(study.window, Some(1));
         assert!(study.reason.contains("study with contact"), "{study}");

@@ -401,8 +401,10 @@ mod tests {
             (0.6, 0.6)
         );
         assert_eq!(both.settings.window, None);
+        // a scene with contact: one-step windows in the explorer too
         let explorer = open("mini-blocks", &Overrides::for_task(Task::Interactive)).expect("opens");
-        assert_eq!(explorer.settings.window, None);
+        assert!(explorer.problem.contact_count() > 0);
+        assert_eq!(explorer.settings.window, Some(1));
     }
 
     /// Parameter values go through `Parameter` onto the built problem (on every contact, or on
