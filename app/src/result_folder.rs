@@ -90,13 +90,7 @@ fn open_run(dir: &Path) -> anyhow::Result<OpenedFolder> {
     let scene = record.open_scene()?;
     // the solution checked now: a damaged or foreign file is refused before anything opens
     let solution = read_run_solution(dir, &record, &scene.problem)?;
-    let row = ResultRow {
-        name: "run".into(),
-        assigned: Vec::new(),
-        quantities: Vec::new(),
-        iterations: Some(solution.iterations),
-        converged: solution.converged,
-    };
+    let table = ResultTable::single_run(solution.iterations, solution.converged);
     let folder = dir.to_path_buf();
     // the first show takes the solution read here; a later one reads the file again
     let checked = Mutex::new(Some(solution));
@@ -111,11 +105,7 @@ fn open_run(dir: &Path) -> anyhow::Result<OpenedFolder> {
         path: dir.to_path_buf(),
         kind: FolderKind::Run,
         scene,
-        table: ResultTable {
-            parameters: Vec::new(),
-            quantities: Vec::new(),
-            rows: vec![row],
-        },
+        table,
         loader,
         first: 0,
     })

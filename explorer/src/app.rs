@@ -19,9 +19,7 @@ use crate::params::{FrictionTargets, Params};
 use crate::recorder::RecorderFactory;
 use crate::recording::Recording;
 use crate::remote::Connector;
-use crate::result_folder::{
-    FolderKind, FolderOpener, OpenedFolder, ResultRow, ResultTable, RowSource,
-};
+use crate::result_folder::{FolderKind, FolderOpener, OpenedFolder, ResultTable, RowSource};
 use crate::results_panel::ResultsView;
 use crate::solve_view::SolveView;
 use crate::stored_run::StoredRun;
@@ -166,6 +164,12 @@ pub(crate) fn load(options: &Options) -> Result<Loaded, String> {
         .map_err(|e| e.to_string())
 }
 
+/// What the solver side calls after each event: a repaint of `ctx`.
+fn repaint_wake(ctx: &egui::Context) -> Arc<dyn Fn() + Send + Sync> {
+    let ctx = ctx.clone();
+    Arc::new(move || ctx.request_repaint())
+}
+
 /// Opens a result folder with the options' opener.
 fn open_folder(options: &Options, path: &std::path::Path) -> Result<Loaded, String> {
     let opener = options.opener.as_ref().ok_or_else(|| {
@@ -178,8 +182,9 @@ fn open_folder(options: &Options, path: &std::path::Path) -> Result<Loaded, Stri
     opener.open(path)
 }
 
-/// Opens a scene for the explorer ([`scene::open`]: the whole interval, re-solved warm after
-/// each change), with its options over the scene's `[solver]` table.
+/// Opens a scene for the explorer ([`scene::open`] for the interactive task: one-step windows
+/// on a scene with contact, else the whole interval, re-solved warm after each change), with its
+/// options over the scene's `[solver]` table.
 pub(crate) fn load_scene(options: &Options) -> lopin_core::Result<scene::Opened> {
     let overrides = scene::Overrides {
         solver: scene::spec::SolverSpec {
@@ -255,13 +260,12 @@ impl ExplorerApp {
         };
         let base = Params::of(&problem, &settings);
         let mut friction_targets = FrictionTargets::of(&problem);
-        let wake_ctx = ctx.clone();
         let recording = Recording::new(options.recorder.clone(), &info.name);
         let rows = folder.as_ref().map(|(_, _, table, loader, _)| RowSource {
             rows: table.rows.iter().map(|r| r.assigned.clone()).collect(),
             loader: loader.clone(),
         });
-        let wake: Arc<dyn Fn() + Send + Sync> = Arc::new(move || wake_ctx.request_repaint());
+        let wake = repaint_wake(&ctx);
         let remote = match (&options.connector, &rows) {
             (Some(connector), None) => {
                 let start = Start {
@@ -317,22 +321,9 @@ impl ExplorerApp {
         run: StoredRun,
         gpu: bool,
     ) -> Result<Self, String> {
-        let wake_ctx = ctx.clone();
-        let wake: Arc<dyn Fn() + Send + Sync> = Arc::new(move || wake_ctx.request_repaint());
-        let worker = Worker::spawn_stored(&run, wake).map_err(|e| e.to_string())?;
+        let worker = Worker::spawn_stored(&run, repaint_wake(&ctx)).map_err(|e| e.to_string())?;
         let clock = Clock::new(run.info.steps, run.info.dt, worker.display_step());
-        let o = run.outcome;
-        let table = ResultTable {
-            parameters: Vec::new(),
-            quantities: Vec::new(),
-            rows: vec![ResultRow {
-                name: "run".into(),
-                assigned: Vec::new(),
-                quantities: Vec::new(),
-                iterations: Some(o.iterations),
-                converged: o.converged,
-            }],
-        };
+        let table = ResultTable::single_run(run.outcome.iterations, run.outcome.converged);
         let results = ResultsView::new(run.path, FolderKind::Run, table, run.params.clone(), 0);
         let solve = SolveView::start_row(worker, run.params, 0, "run".into());
         let parts = Parts {

@@ -47,14 +47,10 @@ pub fn compute(
     let subs = raw
         .into_iter()
         .enumerate()
-        .map(|(i, f)| {
-            let vm = post::von_mises(solver, i, &f.u);
-            let von_mises = element_to_nodes(&solver.problem().subs[i].mesh, &vm);
-            SubStepFields {
-                u: f.u,
-                v: f.v,
-                von_mises,
-            }
+        .map(|(i, f)| SubStepFields {
+            von_mises: nodal_von_mises(solver, i, &f.u),
+            u: f.u,
+            v: f.v,
         })
         .collect();
     StepFields {
@@ -63,6 +59,15 @@ pub fn compute(
         live,
         subs,
     }
+}
+
+/// Von Mises stress of substructure `i` under displacements `u`, averaged from the elements to
+/// the nodes.
+pub fn nodal_von_mises(solver: &Solver, i: usize, u: &[f64]) -> Vec<f64> {
+    element_to_nodes(
+        &solver.problem().subs[i].mesh,
+        &post::von_mises(solver, i, u),
+    )
 }
 
 /// Averages element values to the nodes (each node: mean over the elements that hold it).

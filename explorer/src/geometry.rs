@@ -26,7 +26,7 @@ pub struct SubGeometry {
     pub faces: Vec<[usize; 4]>,
     /// Hexahedra.
     pub elements: Vec<[usize; 8]>,
-    /// Mean of the nodes.
+    /// Mean of the nodes (set by [`SceneGeometry::from_subs`]).
     pub centroid: Vec3,
     /// Contact node of each mesh node, if any.
     pub contact: Vec<Option<ContactNode>>,
@@ -82,14 +82,13 @@ impl SceneGeometry {
                         Element::Tet4([a, b, c, d]) => [*a, *b, *c, *c, *d, *d, *d, *d],
                     })
                     .collect();
-                let centroid = nodes.iter().copied().sum::<Vec3>() / (nodes.len().max(1) as f32);
                 SubGeometry {
                     contact: vec![None; nodes.len()],
+                    centroid: Vec3::ZERO,
                     enclosed: Vec::new(),
                     nodes,
                     faces,
                     elements,
-                    centroid,
                 }
             })
             .collect();
@@ -132,8 +131,12 @@ impl SceneGeometry {
         SceneGeometry::from_subs(subs)
     }
 
-    /// The geometry of these substructures (a stored run's, read back).
+    /// The geometry of these substructures (a stored run's, read back), with what follows from
+    /// them: each one's centroid and enclosed faces, and the bounding box.
     pub fn from_subs(mut subs: Vec<SubGeometry>) -> SceneGeometry {
+        for s in &mut subs {
+            s.centroid = s.nodes.iter().copied().sum::<Vec3>() / (s.nodes.len().max(1) as f32);
+        }
         mark_enclosed(&mut subs);
         let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
         for s in &subs {

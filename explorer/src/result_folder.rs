@@ -75,6 +75,21 @@ pub struct ResultTable {
 }
 
 impl ResultTable {
+    /// The table of a run folder: its one row, `run`, solved in `iterations`.
+    pub fn single_run(iterations: usize, converged: bool) -> ResultTable {
+        ResultTable {
+            parameters: Vec::new(),
+            quantities: Vec::new(),
+            rows: vec![ResultRow {
+                name: "run".into(),
+                assigned: Vec::new(),
+                quantities: Vec::new(),
+                iterations: Some(iterations),
+                converged,
+            }],
+        }
+    }
+
     /// Column `c` of row `r`: parameters first, then quantities, then iterations.
     pub fn cell(&self, r: usize, c: usize) -> f64 {
         let row = &self.rows[r];

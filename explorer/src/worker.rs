@@ -109,13 +109,11 @@ impl Worker {
         let (events, erx) = channel();
         let mut port = connector.connect(Inbox::new(events, wake))?;
         port.post(wire::encode_start(&start));
-        Ok(Worker {
-            events: erx,
-            pending: Default::default(),
-            display_step: DisplayStep::default(),
-            generation: 0,
-            link: Link::Remote { port, shown: 0 },
-        })
+        Ok(Worker::on(
+            erx,
+            DisplayStep::default(),
+            Link::Remote { port, shown: 0 },
+        ))
     }
 
     /// The worker of a run opened from its stored fields: a thread that answers from the
@@ -138,13 +136,7 @@ impl Worker {
             let (events, erx) = channel();
             let display_step = DisplayStep::default();
             let side = StoredSide::new(run, display_step.clone(), events, wake);
-            Ok(Worker {
-                events: erx,
-                pending: Default::default(),
-                display_step,
-                generation: 0,
-                link: stored_link(side)?,
-            })
+            Ok(Worker::on(erx, display_step, stored_link(side)?))
         }
     }
 
@@ -169,13 +161,18 @@ impl Worker {
         let start: StartService = Box::new(move || {
             Service::start(problem, settings, recorder, shown, events, wake, rows)
         });
-        Ok(Worker {
-            events: erx,
+        Ok(Worker::on(erx, display_step, link(start)?))
+    }
+
+    /// The UI side of `link`, receiving on `events`, nothing requested yet.
+    fn on(events: Receiver<Event>, display_step: DisplayStep, link: Link) -> Worker {
+        Worker {
+            events,
             pending: Default::default(),
             display_step,
             generation: 0,
-            link: link(start)?,
-        })
+            link,
+        }
     }
 
     fn send(&mut self, c: Request) {

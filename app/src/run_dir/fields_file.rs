@@ -29,7 +29,7 @@ use anyhow::{bail, ensure, Context};
 use lopin_core::post::{self, ContactHistory, SubFields};
 use lopin_core::Solver;
 use lopin_explorer::app::SceneInfo;
-use lopin_explorer::fields::{element_to_nodes, SubStepFields};
+use lopin_explorer::fields::{nodal_von_mises, SubStepFields};
 use lopin_explorer::geometry::{ContactNode, SceneGeometry, SubGeometry};
 use lopin_explorer::params::{FrictionTargets, Params};
 use lopin_explorer::stored_run::{FieldStore, NodeSeries, StoredOutcome, StoredRun};
@@ -106,38 +106,24 @@ pub fn head(
 ) -> anyhow::Result<Head> {
     let p = solver.problem();
     let geo = SceneGeometry::of(p);
-    let u32_of = |n: usize| u32::try_from(n).context("a node number past u32");
     let subs = geo
         .subs
         .iter()
         .map(|g| {
-            let faces = g
-                .faces
-                .iter()
-                .map(|f| Ok([u32_of(f[0])?, u32_of(f[1])?, u32_of(f[2])?, u32_of(f[3])?]))
-                .collect::<anyhow::Result<_>>()?;
-            let elements = g
-                .elements
-                .iter()
-                .map(|e| {
-                    let mut out = [0u32; 8];
-                    for (o, &n) in out.iter_mut().zip(e) {
-                        *o = u32_of(n)?;
-                    }
-                    Ok(out)
-                })
-                .collect::<anyhow::Result<_>>()?;
             let contact = g
                 .contact
                 .iter()
                 .enumerate()
-                .filter_map(|(n, c)| c.map(|c| (n, c)))
-                .map(|(n, c)| Ok([u32_of(n)?, u32_of(c.contact)?, u32_of(c.node)?]))
+                .filter_map(|(n, c)| c.map(|c| narrow(&[n, c.contact, c.node])))
                 .collect::<anyhow::Result<_>>()?;
             Ok(SubHead {
                 nodes: g.nodes.iter().map(|x| x.to_array()).collect(),
-                faces,
-                elements,
+                faces: g.faces.iter().map(narrow).collect::<anyhow::Result<_>>()?,
+                elements: g
+                    .elements
+                    .iter()
+                    .map(narrow)
+                    .collect::<anyhow::Result<_>>()?,
                 contact,
             })
         })
@@ -158,6 +144,15 @@ pub fn head(
         subs,
         contact: post::contact(solver, solution),
     })
+}
+
+/// Node numbers as stored.
+fn narrow<const N: usize>(numbers: &[usize; N]) -> anyhow::Result<[u32; N]> {
+    let mut out = [0; N];
+    for (o, &n) in out.iter_mut().zip(numbers) {
+        *o = u32::try_from(n).context("a node number past u32")?;
+    }
+    Ok(out)
 }
 
 /// Writes `path` (through a temporary file and a rename): `head`, then every step of `history`
@@ -188,18 +183,13 @@ pub fn write(
     first.extend_from_slice(&body);
     first.extend_from_slice(&crc32(&first).to_le_bytes());
     let mut written = first.len() as u64;
-    let wrote = |e| format!("writing {}: {e}", tmp.display());
-    out.write_all(&first)
-        .map_err(wrote)
-        .map_err(anyhow::Error::msg)?;
+    let wrote = || format!("writing {}", tmp.display());
+    out.write_all(&first).with_context(wrote)?;
     let n = head.nodes();
     for m in 0..=p.time.steps {
         let vm: Vec<Vec<f64>> = (0..p.subs.len())
             .into_par_iter()
-            .map(|i| {
-                let stress = post::von_mises(solver, i, &history[i][m].u);
-                element_to_nodes(&p.subs[i].mesh, &stress)
-            })
+            .map(|i| nodal_von_mises(solver, i, &history[i][m].u))
             .collect();
         let mut block = Vec::with_capacity(block_bytes(n));
         let mut put = |x: f64| block.extend_from_slice(&(x as f32).to_le_bytes());
@@ -216,12 +206,10 @@ pub fn write(
         );
         let crc = crc32(&block);
         block.extend_from_slice(&crc.to_le_bytes());
-        out.write_all(&block)
-            .map_err(wrote)
-            .map_err(anyhow::Error::msg)?;
+        out.write_all(&block).with_context(wrote)?;
         written += block.len() as u64;
     }
-    out.flush().map_err(wrote).map_err(anyhow::Error::msg)?;
+    out.flush().with_context(wrote)?;
     drop(out);
     std::fs::rename(&tmp, path).with_context(|| format!("renaming to {}", path.display()))?;
     Ok(written)
@@ -466,11 +454,10 @@ pub fn stored_run(dir: &Path, head: Head, file: FieldsFile) -> anyhow::Result<St
                     node: c[2] as usize,
                 });
             }
-            let centroid = nodes.iter().copied().sum::<glam::Vec3>() / (nodes.len().max(1) as f32);
             SubGeometry {
                 faces: s.faces.iter().map(|f| f.map(|k| k as usize)).collect(),
                 elements: s.elements.iter().map(|e| e.map(|k| k as usize)).collect(),
-                centroid,
+                centroid: glam::Vec3::ZERO,
                 contact,
                 enclosed: Vec::new(),
                 nodes,
