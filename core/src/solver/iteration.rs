@@ -18,8 +18,9 @@
 //!    (METHOD §6), or its Anderson-accelerated form ([`crate::stages::acceleration`]);
 //! 5. [`SolveRun::end_of_window`]: η < tol (or η̄ < tol, as [`Settings::stop`] says) moves to
 //!    the next window, a cold one starting from a prediction out of the converged steps
-//!    ([`Settings::window_start`], [`crate::scene::settings`]); a non-finite η or the iteration
-//!    limit ends the solve unconverged.
+//!    ([`Settings::window_start`], [`crate::scene::settings`]), a warm one from the given state
+//!    moved by the difference the converged steps showed (METHOD §8); a non-finite η or the
+//!    iteration limit ends the solve unconverged.
 //!
 //! In a distributed run ([`crate::distributed::distribution`]) the same stages run on every rank over what it
 //! holds: the local stage on its interfaces, after receiving s of the other ranks' sides and
@@ -52,6 +53,14 @@ use crate::state::{InterfaceState, TraceHistory};
 pub struct SolveRun {
     /// Whether it started from a given state (warm).
     warm: bool,
+    /// A warm solve's given state at the current window's last step, per substructure (F then
+    /// W, empty where this rank holds none), as it was before the window iterated.
+    #[serde(default)]
+    warm_last: Vec<Vec<f64>>,
+    /// The converged values less the given ones at the previous window's last step, per
+    /// substructure (F then W).
+    #[serde(default)]
+    warm_shift: Vec<Vec<f64>>,
     /// s = (F, W), relaxed.
     s: InterfaceState,
     /// The linear stage's output before relaxation.
@@ -263,8 +272,15 @@ impl Solver {
             })
             .collect();
         let window = self.settings.window.unwrap_or(n).clamp(1, n);
+        let warm_last = if start.is_some() {
+            step_values(&s, window.min(n))
+        } else {
+            Vec::new()
+        };
         Ok(SolveRun {
             warm: start.is_some(),
+            warm_last,
+            warm_shift: Vec::new(),
             s_new,
             s,
             hats,
@@ -632,7 +648,10 @@ impl SolveRun {
             self.done = true;
             return true;
         }
-        if !self.warm {
+        if self.warm {
+            // a warm window starts from the given state moved as the converged steps showed
+            self.shift_warm_window(distribution);
+        } else {
             // a cold window starts from a prediction out of the converged steps before it
             let start = settings.window_start.resolve(settings.tol);
             for (i, h) in self.s.subs.iter_mut().enumerate() {
@@ -646,6 +665,77 @@ impl SolveRun {
         }
         false
     }
+}
+
+impl SolveRun {
+    /// A warm window's start (METHOD §8): the given state's values on the window, moved by the
+    /// difference d between the converged values and the given ones at the previous window's
+    /// last step, times the share α of the difference before that persisted over the previous
+    /// window (least squares, in [0, 1], F and W apart; α = 1 on the second window). Where the
+    /// change of parameter moved the solution smoothly, the start carries the move on; where
+    /// the differences are the tolerance's noise, α ≈ 0 keeps the given state.
+    fn shift_warm_window(&mut self, distribution: &Distribution) {
+        let (m0, m1) = (self.m0, self.m1);
+        let next_last = step_values(&self.s, m1);
+        self.warm_shift.resize(self.s.subs.len(), Vec::new());
+        for (i, h) in self.s.subs.iter_mut().enumerate() {
+            let given = self.warm_last.get(i).map_or(&[][..], |g| &g[..]);
+            if !distribution.holds_sub(i) || given.is_empty() {
+                continue;
+            }
+            let len = h.len;
+            let prev = h.at(m0 - 1);
+            let converged = h.f[prev.clone()].iter().chain(&h.w[prev]);
+            let d: Vec<f64> = converged.zip(given).map(|(c, g)| c - g).collect();
+            let before = &self.warm_shift[i];
+            let share = |r: std::ops::Range<usize>| persisted_share(&d[r.clone()], before.get(r));
+            let (af, aw) = (share(0..len), share(len..2 * len));
+            for m in m0..=m1 {
+                let r = h.at(m);
+                for (x, dj) in h.f[r.clone()].iter_mut().zip(&d[..len]) {
+                    *x += af * dj;
+                }
+                for (x, dj) in h.w[r].iter_mut().zip(&d[len..]) {
+                    *x += aw * dj;
+                }
+            }
+            self.warm_shift[i] = d;
+        }
+        self.warm_last = next_last;
+    }
+}
+
+/// The least-squares share of `before` in `now`, in [0, 1]: 1 without a history, 0 where
+/// `before` vanishes.
+fn persisted_share(now: &[f64], before: Option<&[f64]>) -> f64 {
+    let Some(before) = before else {
+        return 1.0;
+    };
+    let (num, den) = now
+        .iter()
+        .zip(before)
+        .fold((0.0, 0.0), |(n, d), (a, b)| (n + a * b, d + b * b));
+    if den > 0.0 {
+        (num / den).clamp(0.0, 1.0)
+    } else {
+        0.0
+    }
+}
+
+/// Every substructure's F then W at step m (empty where this rank holds none).
+fn step_values(s: &InterfaceState, m: usize) -> Vec<Vec<f64>> {
+    s.subs
+        .iter()
+        .map(|h| {
+            if h.f.is_empty() {
+                return Vec::new();
+            }
+            let r = h.at(m);
+            let mut v = h.f[r.clone()].to_vec();
+            v.extend_from_slice(&h.w[r]);
+            v
+        })
+        .collect()
 }
 
 /// A state on steps m0..=m1 as one flat vector: every substructure's F then W, step-major.
@@ -719,6 +809,16 @@ fn relax(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_persisted_share_is_the_least_squares_fit_in_zero_one() {
+        assert_eq!(persisted_share(&[1.0, 2.0], None), 1.0);
+        assert!((persisted_share(&[1.0, 2.0], Some(&[2.0, 4.0])) - 0.5).abs() < 1e-15);
+        assert_eq!(persisted_share(&[4.0, 8.0], Some(&[1.0, 2.0])), 1.0);
+        assert_eq!(persisted_share(&[1.0, -1.0], Some(&[1.0, 1.0])), 0.0);
+        assert_eq!(persisted_share(&[-1.0, -2.0], Some(&[1.0, 2.0])), 0.0);
+        assert_eq!(persisted_share(&[1.0, 2.0], Some(&[0.0, 0.0])), 0.0);
+    }
 
     #[test]
     fn relaxation_mixes_the_window_and_leaves_other_steps() {
