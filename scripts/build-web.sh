@@ -27,6 +27,13 @@ if grep -E '^warning' target/web/build.log | grep -v -E 'future version of Rust|
 fi
 RAW="target/web/$TARGET/web-release/lopin_web.wasm"
 
+# the same module, page, worker and script as dist/ was made from: dist/ stands (wasm-bindgen
+# and wasm-opt take a minute or more)
+SOURCE_SHA=$(cat "$RAW" index.html web/lopin_worker.js scripts/build-web.sh | sha256sum | cut -d' ' -f1)
+if [ -f "$OUT/build.json" ] && [ -f "$OUT/lopin_web_bg.wasm" ] && [ -f "$OUT/lopin_web.js" ] &&
+    grep -q "\"source_sha256\": \"$SOURCE_SHA\"" "$OUT/build.json"; then
+    echo "web: $OUT/ is up to date (made from this build of the module, page and worker)"
+else
 rm -rf "$OUT.tmp"
 mkdir -p "$OUT.tmp"
 "$WEB_TOOLS/bin/wasm-bindgen" --target web --no-typescript --out-dir "$OUT.tmp" "$RAW"
@@ -47,11 +54,14 @@ cat > "$OUT.tmp/build.json" <<JSON
   "wasm_bytes_after_wasm_bindgen": $BINDGEN_BYTES,
   "wasm_bytes": $WASM_BYTES,
   "wasm_gzip_bytes": $GZIP_BYTES,
-  "js_bytes": $JS_BYTES
+  "js_bytes": $JS_BYTES,
+  "source_sha256": "$SOURCE_SHA"
 }
 JSON
 rm -rf "$OUT"
 mv "$OUT.tmp" "$OUT"
+fi
+read -r WASM_BYTES BINDGEN_BYTES GZIP_BYTES < <(python3 -c "import json, sys; d = json.load(open(sys.argv[1])); print(d['wasm_bytes'], d['wasm_bytes_after_wasm_bindgen'], d['wasm_gzip_bytes'])" "$OUT/build.json")
 LIMIT=$((8 * 1024 * 1024))
 python3 -c "import sys; w, b, g = map(int, sys.argv[1:]); print(f'web: dist/lopin_web_bg.wasm {w} bytes ({w / 2**20:.2f} MiB; {b} after wasm-bindgen, {g} gzipped), budget 8 MiB')" \
     "$WASM_BYTES" "$BINDGEN_BYTES" "$GZIP_BYTES"
