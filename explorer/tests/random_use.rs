@@ -12,7 +12,8 @@
 //! view's paint callback, two side by side), a rendered frame now and then, every finished
 //! solve converged, was cancelled or spent its iteration limit with a finite η (settings at the
 //! ends of their sliders that LATIN does not converge in max_iter iterations; a value the solver
-//! refuses fails with its message, and never a solve midway), and at the end, with the scene's values back, a converged solve.
+//! refuses fails with its message, and never a solve midway), and at the end, with the scene's
+//! values back, a converged solve.
 //!
 //! `LOPIN_UI_SEED` picks the sequence (decimal or 0x-hexadecimal; default fixed) and
 //! `LOPIN_UI_ACTIONS` its length. A failure prints the seed and the last actions, and writes

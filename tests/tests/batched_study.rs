@@ -265,8 +265,8 @@ fn study(
 /// of interest to 1e-5, a tenth of the tolerance (a lane's multi-column solve differs from a
 /// lone solve in the last bits: a window whose η lands that close to the tolerance stops one
 /// iteration apart, and a warm window's start carries the converged steps on); on one-step
-/// windows and over the whole interval. Four lanes on three
-/// chains leave one idle; of two lanes, the first done takes the third chain.
+/// windows and over the whole interval. Four lanes on three chains leave one idle; of two
+/// lanes, the first done takes the third chain.
 #[test]
 fn a_study_in_batches_matches_its_chains_solved_one_at_a_time() {
     for window in [Some(1), None] {

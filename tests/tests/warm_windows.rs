@@ -6,16 +6,18 @@
 
 use lopin_core::scene;
 use lopin_core::state::InterfaceState;
-use lopin_core::{Settings, Solver};
+use lopin_core::{Parameter, Solution, Solver};
 
-/// `two-blocks-ramp` on one-step windows at η < `tol`.
-fn solver(tol: f64) -> Solver {
-    let spec = scene::load("two-blocks-ramp").expect("scene");
-    let problem = scene::problem_of(&spec, &spec.name).expect("scene builds");
-    let mut settings = Settings::for_problem(&problem, &spec.solver);
-    settings.tol = tol;
-    settings.window = Some(1);
-    Solver::new(problem, settings).expect("setup")
+/// `two-blocks-ramp` with friction `f` on one-step windows, solved cold to η < 1e-6.
+fn solved_cold(f: f64) -> (Solver, Solution) {
+    let mut spec = scene::load("two-blocks-ramp").expect("scene");
+    for i in spec.interfaces.iter_mut().filter(|i| i.friction.is_some()) {
+        i.friction = Some(f);
+    }
+    lopin_tests::solve(&spec, |s| {
+        s.tol = 1e-6;
+        s.window = Some(1);
+    })
 }
 
 /// The largest |x| over every substructure's F, and over every W.
@@ -41,9 +43,9 @@ fn assert_same_solution(warm: &InterfaceState, cold: &InterfaceState) {
 
 #[test]
 fn a_given_state_off_by_a_constant_costs_the_first_window_and_little_after() {
-    let mut solver = solver(1e-6);
+    // the scene's friction
+    let (mut solver, cold) = solved_cold(0.3);
     let steps = solver.problem().time.steps;
-    let cold = solver.solve(None).expect("cold");
     assert!(cold.converged);
     let (f_scale, w_scale) = scales(&cold.state);
     // every entry after step 0 moved by 1 % of its field's largest value, its sign alternating
@@ -83,14 +85,8 @@ fn a_given_state_off_by_a_constant_costs_the_first_window_and_little_after() {
 
 #[test]
 fn a_warm_friction_step_agrees_with_its_cold_solve() {
-    let mut solver = solver(1e-6);
-    solver
-        .set_parameter(lopin_core::Parameter::Friction, 0.2)
-        .expect("f");
-    let neighbour = solver.solve(None).expect("f = 0.2");
-    solver
-        .set_parameter(lopin_core::Parameter::Friction, 0.25)
-        .expect("f");
+    let (mut solver, neighbour) = solved_cold(0.2);
+    solver.set_parameter(Parameter::Friction, 0.25).expect("f");
     let warm = solver.solve(Some(&neighbour.state)).expect("warm");
     let cold = solver.solve(None).expect("cold");
     assert!(warm.converged && cold.converged);
