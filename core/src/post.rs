@@ -14,7 +14,7 @@ use crate::interfaces::interface::Law;
 use crate::mesh::{dot, Element, Vec3};
 use crate::par;
 use crate::solver::{Solution, Solver};
-use crate::stages::linear_stage::{linear_stage, LinearInput, LinearWork, StepVisitor, SubState};
+use crate::stages::linear_stage::{replay_stage, LinearInput, LinearWork, StepVisitor, SubState};
 use crate::state::TraceHistory;
 use crate::substructure::{SideRef, Substructure};
 
@@ -47,7 +47,7 @@ pub fn replay(
         time: p.step_coefficients(),
         steps: (1, until),
     };
-    linear_stage(sub, factor, &mut work, &input, &mut out, Some(visit));
+    replay_stage(sub, factor, &mut work, &input, &mut out, Some(visit));
 }
 
 /// Nodal velocities of every substructure at every step of a converged solution: `[m][sub][dof]`.

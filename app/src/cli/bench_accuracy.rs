@@ -1,7 +1,7 @@
 //! `lopin bench --accuracy`: time to accuracy, the figure every speed change is judged by. For
 //! each case (a scene at a refinement) and each setting (the defaults of one cold solve; the
-//! whole interval; the whole interval with the dissipative scheme ρ∞ = 0.5, the setting the
-//! guide documents as the fewest iterations), LATIN is solved at tolerances 1e-1 … 1e-8 and its
+//! same with the factors in single precision; the whole interval; the whole interval with the
+//! dissipative scheme ρ∞ = 0.5, the setting the guide documents as the fewest iterations), LATIN is solved at tolerances 1e-1 … 1e-8 and its
 //! nodal velocities over space–time compared with the converged solution of the same discrete
 //! problem (the same scheme on one-step windows at η < 1e-9, or 1e-8 or 1e-7 where rounding
 //! stops it above; the table says which): the wall time and the CPU time
@@ -12,6 +12,7 @@
 //! with `--json`.
 
 use lopin_core::counters::Instant;
+use lopin_core::scene::settings::FactorPrecision;
 use lopin_core::scene::spec::SolverSpec;
 use lopin_core::window_choice::{Task, WindowRequest};
 use lopin_core::{post, Settings, Solution, Solver};
@@ -45,23 +46,33 @@ struct Setting {
     name: &'static str,
     window: Option<WindowRequest>,
     rho_inf: Option<f64>,
+    factors: Option<FactorPrecision>,
 }
 
-const SETTINGS: [Setting; 3] = [
+const SETTINGS: [Setting; 4] = [
     Setting {
         name: "default",
         window: None,
         rho_inf: None,
+        factors: None,
+    },
+    Setting {
+        name: "single-precision factors",
+        window: None,
+        rho_inf: None,
+        factors: Some(FactorPrecision::Single),
     },
     Setting {
         name: "whole",
         window: Some(WindowRequest::Whole),
         rho_inf: None,
+        factors: None,
     },
     Setting {
         name: "whole, rho-inf 0.5",
         window: Some(WindowRequest::Whole),
         rho_inf: Some(0.5),
+        factors: None,
     },
 ];
 
@@ -219,6 +230,7 @@ fn measure(scene: &str, refine: usize, setting: Setting) -> anyhow::Result<Accur
     let spec = SolverSpec {
         window: setting.window,
         rho_inf: setting.rho_inf,
+        factors: setting.factors,
         ..SolverSpec::default()
     };
     let (wall0, cpu0) = (Instant::now(), cpu_seconds());

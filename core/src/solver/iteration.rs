@@ -175,6 +175,7 @@ impl Solver {
         let p = &self.problem;
         let n = p.time.steps;
         self.counters.reset_solve();
+        self.linear.forget_guesses();
         let dist = &self.distribution;
         // a rank stores only the histories it works on (all of them on one machine)
         let initial = InterfaceState::cold_where(p, &|i| dist.needs_trace(i));

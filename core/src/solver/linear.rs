@@ -20,7 +20,7 @@ use crate::macro_scale::operator_classes::Classes;
 use crate::par;
 use crate::stages::indicator::IndicatorSums;
 use crate::stages::linear_stage::{
-    complete, form_rhs, linear_stage, LinearInput, LinearWork, SubState,
+    add_guess, complete, form_rhs, linear_stage, LinearInput, LinearWork, SubState,
 };
 use crate::state::TraceHistory;
 use crate::substructure::Substructure;
@@ -82,6 +82,15 @@ impl LinearStage {
         match self {
             Self::SingleScale(s) => s.run(ops, starts, lin, whole, out),
             Self::TwoScale(t) => t.run(ops, starts, lin, out),
+        }
+    }
+
+    /// Forgets every substructure's guess of a single-precision refinement
+    /// ([`LinearWork::forget_guess`]): a solve starts from none.
+    pub fn forget_guesses(&mut self) {
+        match self {
+            Self::SingleScale(s) => s.subs.iter_mut().for_each(|b| b.work.forget_guess()),
+            Self::TwoScale(t) => t.forget_guesses(),
         }
     }
 
@@ -319,6 +328,7 @@ fn march_together(
             b.work
                 .rhs_mut()
                 .copy_from_slice(&block[col * n..(col + 1) * n]);
+            add_guess(&mut b.work);
             let input = &inputs[*c];
             let m = input.lin.steps.0 + step;
             let sums = complete(&input.ops.subs[i], &mut b.work, &input.lin, m, out, None);

@@ -73,6 +73,11 @@ impl TwoScale {
         &self.macro_problem
     }
 
+    /// Forgets every substructure's guess of a single-precision refinement.
+    pub fn forget_guesses(&mut self) {
+        self.subs.iter_mut().for_each(|b| b.work.forget_guess());
+    }
+
     /// Substructure `i`'s state at the last step of the last run.
     pub fn end_state(&self, i: usize) -> &SubState {
         &self.subs[i].work.state

@@ -20,6 +20,13 @@
 //! remain per step; METHOD §11 cost model). A factor kept in single precision solves S v = rhs
 //! only to its rounding, which the recovered product would carry from step to step: there
 //! c_K K v_m is a product with K.
+//!
+//! A single-precision solve is also refined against S in double: with a guess g of v_m (the v_m
+//! of the previous linear stage when it marched the same step, as every iteration of a one-step
+//! window does, else v_{m−1}), v_m = g + S̃⁻¹ (rhs_m − S g), where S g = (c_M + α) M g +
+//! (c_K + β) K g + k Bᵀ A B g costs O(n) with K g carried. At LATIN's fixed point v_m = g, so
+//! S v_m = rhs_m exactly whatever the rounding of S̃⁻¹: the iteration converges to the solution
+//! of the double-precision linear stage, not to that of a neighbouring one.
 
 use crate::interfaces::interface::Interface;
 use crate::linalg::factor::{CholeskyFactor, SolveScratch};
@@ -109,8 +116,15 @@ pub struct LinearWork {
     /// Ŵ gathered into trace layout for the current step.
     pub what: Vec<f64>,
     scratch: SolveScratch,
-    /// The factor keeps single precision: c_K K v_m is computed from K, not from the solve.
+    /// The factor keeps single precision: c_K K v_m is computed from K, not from the solve,
+    /// and each solve is refined from a guess (see the module doc).
     single: bool,
+    /// The step whose v and c_K K v the guess holds (single precision only).
+    guess_step: Option<usize>,
+    /// v of step `guess_step`.
+    guess_v: Vec<f64>,
+    /// c_K K v of step `guess_step`.
+    guess_ckv: Vec<f64>,
 }
 
 impl LinearWork {
@@ -125,6 +139,9 @@ impl LinearWork {
             what: vec![0.0; sub.trace_len()],
             scratch: factor.scratch(),
             single: factor.is_single(),
+            guess_step: None,
+            guess_v: Vec::new(),
+            guess_ckv: Vec::new(),
         }
     }
 
@@ -139,7 +156,16 @@ impl LinearWork {
             what: Vec::new(),
             scratch: SolveScratch::none(),
             single: false,
+            guess_step: None,
+            guess_v: Vec::new(),
+            guess_ckv: Vec::new(),
         }
+    }
+
+    /// Forgets the guess of a single-precision solve's refinement, so that a new solve does not
+    /// depend on what this substructure solved before.
+    pub fn forget_guess(&mut self) {
+        self.guess_step = None;
     }
 
     /// The right-hand side [`form_rhs`] formed, to be replaced by its solution v¹ before
@@ -188,12 +214,38 @@ pub fn linear_stage(
     work: &mut LinearWork,
     input: &LinearInput<'_>,
     out: &mut TraceHistory,
+    visit: Option<&mut StepVisitor<'_>>,
+) -> IndicatorSums {
+    march(sub, factor, work, input, out, visit, predict)
+}
+
+/// [`linear_stage`] with every solve to double-precision accuracy also where the factor keeps
+/// single precision ([`predict_refined`]): a replay, which has no iteration to refine over.
+pub fn replay_stage(
+    sub: &Substructure,
+    factor: &CholeskyFactor,
+    work: &mut LinearWork,
+    input: &LinearInput<'_>,
+    out: &mut TraceHistory,
+    visit: Option<&mut StepVisitor<'_>>,
+) -> IndicatorSums {
+    march(sub, factor, work, input, out, visit, predict_refined)
+}
+
+/// The march of [`linear_stage`] with the micro solve `solve`.
+fn march(
+    sub: &Substructure,
+    factor: &CholeskyFactor,
+    work: &mut LinearWork,
+    input: &LinearInput<'_>,
+    out: &mut TraceHistory,
     mut visit: Option<&mut StepVisitor<'_>>,
+    solve: fn(&Substructure, &CholeskyFactor, &mut LinearWork, &LinearInput<'_>, usize),
 ) -> IndicatorSums {
     let (m0, m1) = input.steps;
     let mut sums = IndicatorSums::default();
     for m in m0..=m1 {
-        predict(sub, factor, work, input, m);
+        solve(sub, factor, work, input, m);
         sums.add(complete(sub, work, input, m, out, None));
         if let Some(f) = visit.as_mut() {
             let r = out.at(m);
@@ -215,11 +267,33 @@ pub fn predict(
 ) {
     form_rhs(sub, work, input, m);
     factor.solve_in_place(&mut work.rhs_then_v, &mut work.scratch);
+    add_guess(work);
+}
+
+/// [`predict`], refined once more from its solution where the factor keeps single precision (a
+/// second solve and a product with K): v_m to double-precision accuracy in one step.
+pub fn predict_refined(
+    sub: &Substructure,
+    factor: &CholeskyFactor,
+    work: &mut LinearWork,
+    input: &LinearInput<'_>,
+    m: usize,
+) {
+    predict(sub, factor, work, input, m);
+    if work.single {
+        work.guess_v.clone_from(&work.rhs_then_v);
+        sub.stiffness.mul_into(&work.guess_v, &mut work.guess_ckv);
+        let ck = input.time.stiffness;
+        work.guess_ckv.iter_mut().for_each(|x| *x *= ck);
+        work.guess_step = Some(m);
+        predict(sub, factor, work, input, m);
+    }
 }
 
 /// [`predict`] without its solve: gathers ŝ_m and forms r_m + Bᵀ A (F̂_m + k Ŵ_m) in
-/// [`LinearWork::rhs_mut`], where a caller solving several right-hand sides through one pass of
-/// the factor puts v¹ back before [`complete`].
+/// [`LinearWork::rhs_mut`] (less S g for a single-precision factor), where a caller solving
+/// several right-hand sides through one pass of the factor puts the solution back and calls
+/// [`add_guess`] before [`complete`].
 pub fn form_rhs(sub: &Substructure, work: &mut LinearWork, input: &LinearInput<'_>, m: usize) {
     let (k, c) = (input.k, &input.time);
     work.gather_hat(sub, input.interfaces, input.hats, m);
@@ -249,6 +323,52 @@ pub fn form_rhs(sub: &Substructure, work: &mut LinearWork, input: &LinearInput<'
         sub.add_trace(j, x, rhs);
     }
     y.copy_from_slice(rhs);
+    if work.single {
+        subtract_guess(sub, work, k, c, m);
+    }
+}
+
+/// rhs_m −= S g for the refinement of a single-precision solve (module doc): g the previous
+/// linear stage's v_m when it marched step m, else v_{m−1} from the state.
+fn subtract_guess(
+    sub: &Substructure,
+    work: &mut LinearWork,
+    k: f64,
+    c: &StepCoefficients,
+    m: usize,
+) {
+    let n = work.rhs_then_v.len();
+    if work.guess_step != Some(m) {
+        work.guess_v.clone_from(&work.state.v);
+        work.guess_ckv.clone_from(&work.state.ckv);
+        work.guess_step = Some(m);
+    }
+    let LinearWork {
+        rhs_then_v: rhs,
+        guess_v: g,
+        guess_ckv: ckg,
+        ..
+    } = work;
+    let (cm, ck) = sub.operator_coefficients(c);
+    let scale = ck / c.stiffness;
+    for i in 0..n {
+        rhs[i] -= cm * sub.mass[i] * g[i] + scale * ckg[i];
+    }
+    for j in 0..sub.trace_len() {
+        let w = sub.trace_value(j, g);
+        sub.add_trace(j, -k * sub.trace_k[j] * sub.trace_area[j] * w, rhs);
+    }
+}
+
+/// After the solve of [`form_rhs`]'s right-hand side: v = g + the solution for a
+/// single-precision factor (module doc); nothing otherwise.
+pub fn add_guess(work: &mut LinearWork) {
+    if work.single && work.guess_step.is_some() {
+        work.rhs_then_v
+            .iter_mut()
+            .zip(&work.guess_v)
+            .for_each(|(v, g)| *v += g);
+    }
 }
 
 /// F¹ = F̂_m + k (Ŵ_m − B v¹) on the trace, after [`predict`] (METHOD §9 step 1).
@@ -348,6 +468,12 @@ pub fn complete(
             state.ka[i] = dk * (y[i] - state.ckv[i]) - c.a_from_a * state.ka[i];
         }
         state.ckv[i] = y[i];
+    }
+    if single {
+        // the next linear stage's guess of this step
+        work.guess_step = Some(m);
+        work.guess_v.clone_from(&work.state.v);
+        work.guess_ckv.clone_from(&work.state.ckv);
     }
     sums
 }

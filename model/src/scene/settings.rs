@@ -75,8 +75,8 @@ pub enum FactorPrecision {
     /// Kept in double precision.
     #[default]
     Double,
-    /// Computed and kept in single precision: half the memory, faster solves, the linear stage
-    /// accurate to a few parts in 10⁶ (for tolerances of 1e-5 and looser).
+    /// Computed and kept in single precision: half the memory, faster solves; each solve is
+    /// refined in double by the linear stage, which converges to the double-precision solution.
     Single,
 }
 

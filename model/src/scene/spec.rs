@@ -138,8 +138,8 @@ pub struct SolverSpec {
     #[cfg_attr(feature = "cli", arg(long = "macro", value_name = "on|off", value_parser = crate::scene::settings::switch_from_arg))]
     pub two_scale: Option<bool>,
     /// Precision the factors of S are kept in: `double`, or `single` (half their memory and
-    /// faster triangular solves, the linear stage accurate to a few parts in 10⁶: for
-    /// tolerances of 1e-5 and looser; default double).
+    /// faster triangular solves where the factors outgrow the cache, each solve refined in
+    /// double so that LATIN converges to the double-precision solution; default double).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[cfg_attr(feature = "cli", arg(long, value_parser = crate::scene::settings::FactorPrecision::from_arg))]
     pub factors: Option<crate::scene::settings::FactorPrecision>,
