@@ -432,19 +432,24 @@ fn factorize(
         }
         let sub = &problem.subs[classes.representatives[c]];
         let triplets = sub.operator_triplets(&time, k);
-        match precision {
-            FactorPrecision::Double => CholeskyFactor::try_new(sub.ndof(), &triplets),
-            #[cfg(not(target_arch = "wasm32"))]
-            FactorPrecision::Single => CholeskyFactor::try_new_single(sub.ndof(), &triplets),
-            // the browser build keeps double precision
-            #[cfg(target_arch = "wasm32")]
-            FactorPrecision::Single => CholeskyFactor::try_new(sub.ndof(), &triplets),
-        }
-        .map(Some)
-        .map_err(|failure| LopinError::Factorization {
-            sub: sub.name.clone(),
-            reason: sub.describe_failure(&failure),
-        })
+        #[cfg(not(target_arch = "wasm32"))]
+        let factor = if precision.single_for(sub.ndof()) {
+            CholeskyFactor::try_new_single(sub.ndof(), &triplets)
+        } else {
+            CholeskyFactor::try_new(sub.ndof(), &triplets)
+        };
+        // the browser build keeps double precision
+        #[cfg(target_arch = "wasm32")]
+        let factor = {
+            let _ = precision;
+            CholeskyFactor::try_new(sub.ndof(), &triplets)
+        };
+        factor
+            .map(Some)
+            .map_err(|failure| LopinError::Factorization {
+                sub: sub.name.clone(),
+                reason: sub.describe_failure(&failure),
+            })
     })
     .into_iter()
     .collect()

@@ -63,7 +63,7 @@ pub struct Settings {
     /// The precision the factors of S keep ([`FactorPrecision`]). Changing it refactorizes.
     /// Left out of records when double (the default), so records and fingerprints of runs that
     /// never asked read as before.
-    #[serde(default, skip_serializing_if = "FactorPrecision::is_double")]
+    #[serde(default, skip_serializing_if = "FactorPrecision::is_auto")]
     pub factors: FactorPrecision,
 }
 

@@ -1,6 +1,6 @@
 //! `lopin bench --accuracy`: time to accuracy, the figure every speed change is judged by. For
 //! each case (a scene at a refinement) and each setting (the defaults of one cold solve; the
-//! same with the factors in single precision; the whole interval; the whole interval with the
+//! same with every factor in double precision; the whole interval; the whole interval with the
 //! dissipative scheme ρ∞ = 0.5, the setting the guide documents as the fewest iterations), LATIN is solved at tolerances 1e-1 … 1e-8 and its
 //! nodal velocities over space–time compared with the converged solution of the same discrete
 //! problem (the same scheme on one-step windows at η < 1e-9, or 1e-8 or 1e-7 where rounding
@@ -57,10 +57,10 @@ const SETTINGS: [Setting; 4] = [
         factors: None,
     },
     Setting {
-        name: "single-precision factors",
+        name: "double-precision factors",
         window: None,
         rho_inf: None,
-        factors: Some(FactorPrecision::Single),
+        factors: Some(FactorPrecision::Double),
     },
     Setting {
         name: "whole",

@@ -279,11 +279,11 @@ impl<'a> RunReport<'a> {
         rows.row(
             "factorizations",
             format!(
-                "{} distinct for {} substructures, {} in {} precision",
+                "{} distinct for {} substructures, {} ({})",
                 self.solver.factors().len(),
                 p.subs.len(),
                 lopin_core::estimate::bytes(self.solver.factor_bytes()),
-                set.factors.name()
+                precision_words(set.factors, &self.solver.factors())
             ),
         );
         if let Some(r) = self.solver.preload() {
@@ -441,4 +441,20 @@ pub fn markdown_table<S: ToString>(header: impl IntoIterator<Item = S>) -> Table
     t.load_preset(presets::ASCII_MARKDOWN);
     t.set_header(header.into_iter().map(|h| h.to_string()));
     t
+}
+
+/// The precision the factors keep, in words: `single precision`, `double precision`, or for
+/// `auto` which it chose (`auto: 2 single, 6 double`).
+fn precision_words(
+    asked: lopin_core::scene::settings::FactorPrecision,
+    factors: &[&lopin_core::linalg::factor::CholeskyFactor],
+) -> String {
+    let single = factors.iter().filter(|f| f.is_single()).count();
+    match (single, factors.len() - single) {
+        (0, _) if !asked.is_auto() || factors.is_empty() => "double precision".into(),
+        (_, 0) if !asked.is_auto() => "single precision".into(),
+        (0, _) => "auto: double precision".into(),
+        (_, 0) => "auto: single precision".into(),
+        (s, d) => format!("auto: {s} single, {d} double"),
+    }
 }

@@ -22,8 +22,8 @@
 //! c_K K v_m is a product with K.
 //!
 //! A single-precision solve is also refined against S in double: with a guess g of v_m (the v_m
-//! of the previous linear stage when it marched the same step, as every iteration of a one-step
-//! window does, else v_{m−1}), v_m = g + S̃⁻¹ (rhs_m − S g), where S g = (c_M + α) M g +
+//! of the previous linear stage when it marched the same step of the same window, else v_{m−1};
+//! [`crate::stages::refinement`]), v_m = g + S̃⁻¹ (rhs_m − S g), where S g = (c_M + α) M g +
 //! (c_K + β) K g + k Bᵀ A B g costs O(n) with K g carried. At LATIN's fixed point v_m = g, so
 //! S v_m = rhs_m exactly whatever the rounding of S̃⁻¹: the iteration converges to the solution
 //! of the double-precision linear stage, not to that of a neighbouring one.
@@ -31,6 +31,7 @@
 use crate::interfaces::interface::Interface;
 use crate::linalg::factor::{CholeskyFactor, SolveScratch};
 use crate::stages::indicator::IndicatorSums;
+use crate::stages::refinement::Guesses;
 use crate::state::TraceHistory;
 use crate::substructure::Substructure;
 use crate::time::time_scheme::StepCoefficients;
@@ -119,12 +120,8 @@ pub struct LinearWork {
     /// The factor keeps single precision: c_K K v_m is computed from K, not from the solve,
     /// and each solve is refined from a guess (see the module doc).
     single: bool,
-    /// The step whose v and c_K K v the guess holds (single precision only).
-    guess_step: Option<usize>,
-    /// v of step `guess_step`.
-    guess_v: Vec<f64>,
-    /// c_K K v of step `guess_step`.
-    guess_ckv: Vec<f64>,
+    /// The guesses of the refinement, a slot a step of the window (single precision only).
+    guesses: Guesses,
 }
 
 impl LinearWork {
@@ -139,9 +136,7 @@ impl LinearWork {
             what: vec![0.0; sub.trace_len()],
             scratch: factor.scratch(),
             single: factor.is_single(),
-            guess_step: None,
-            guess_v: Vec::new(),
-            guess_ckv: Vec::new(),
+            guesses: Guesses::default(),
         }
     }
 
@@ -156,16 +151,14 @@ impl LinearWork {
             what: Vec::new(),
             scratch: SolveScratch::none(),
             single: false,
-            guess_step: None,
-            guess_v: Vec::new(),
-            guess_ckv: Vec::new(),
+            guesses: Guesses::default(),
         }
     }
 
-    /// Forgets the guess of a single-precision solve's refinement, so that a new solve does not
-    /// depend on what this substructure solved before.
+    /// Forgets the guesses of a single-precision solve's refinement, so that a new solve does
+    /// not depend on what this substructure solved before.
     pub fn forget_guess(&mut self) {
-        self.guess_step = None;
+        self.guesses.forget();
     }
 
     /// The right-hand side [`form_rhs`] formed, to be replaced by its solution v¹ before
@@ -281,11 +274,11 @@ pub fn predict_refined(
 ) {
     predict(sub, factor, work, input, m);
     if work.single {
-        work.guess_v.clone_from(&work.rhs_then_v);
-        sub.stiffness.mul_into(&work.guess_v, &mut work.guess_ckv);
+        let mut ckv = vec![0.0; work.rhs_then_v.len()];
+        sub.stiffness.mul_into(&work.rhs_then_v, &mut ckv);
         let ck = input.time.stiffness;
-        work.guess_ckv.iter_mut().for_each(|x| *x *= ck);
-        work.guess_step = Some(m);
+        ckv.iter_mut().for_each(|x| *x *= ck);
+        work.guesses.store(m, input.steps.0, &work.rhs_then_v, &ckv);
         predict(sub, factor, work, input, m);
     }
 }
@@ -324,31 +317,28 @@ pub fn form_rhs(sub: &Substructure, work: &mut LinearWork, input: &LinearInput<'
     }
     y.copy_from_slice(rhs);
     if work.single {
-        subtract_guess(sub, work, k, c, m);
+        subtract_guess(sub, work, k, c, (m, input.steps.0));
     }
 }
 
 /// rhs_m −= S g for the refinement of a single-precision solve (module doc): g the previous
-/// linear stage's v_m when it marched step m, else v_{m−1} from the state.
+/// linear stage's v_m when it marched step m of the window starting at m0, else v_{m−1} from
+/// the state.
 fn subtract_guess(
     sub: &Substructure,
     work: &mut LinearWork,
     k: f64,
     c: &StepCoefficients,
-    m: usize,
+    (m, m0): (usize, usize),
 ) {
     let n = work.rhs_then_v.len();
-    if work.guess_step != Some(m) {
-        work.guess_v.clone_from(&work.state.v);
-        work.guess_ckv.clone_from(&work.state.ckv);
-        work.guess_step = Some(m);
-    }
     let LinearWork {
         rhs_then_v: rhs,
-        guess_v: g,
-        guess_ckv: ckg,
+        guesses,
+        state,
         ..
     } = work;
+    let (g, ckg) = guesses.take(m, m0, (&state.v, &state.ckv));
     let (cm, ck) = sub.operator_coefficients(c);
     let scale = ck / c.stiffness;
     for i in 0..n {
@@ -363,11 +353,8 @@ fn subtract_guess(
 /// After the solve of [`form_rhs`]'s right-hand side: v = g + the solution for a
 /// single-precision factor (module doc); nothing otherwise.
 pub fn add_guess(work: &mut LinearWork) {
-    if work.single && work.guess_step.is_some() {
-        work.rhs_then_v
-            .iter_mut()
-            .zip(&work.guess_v)
-            .for_each(|(v, g)| *v += g);
+    if let Some(g) = work.guesses.take_current() {
+        work.rhs_then_v.iter_mut().zip(g).for_each(|(v, g)| *v += g);
     }
 }
 
@@ -471,9 +458,8 @@ pub fn complete(
     }
     if single {
         // the next linear stage's guess of this step
-        work.guess_step = Some(m);
-        work.guess_v.clone_from(&work.state.v);
-        work.guess_ckv.clone_from(&work.state.ckv);
+        let LinearWork { guesses, state, .. } = work;
+        guesses.store(m, input.steps.0, &state.v, &state.ckv);
     }
     sums
 }

@@ -1,10 +1,12 @@
 //! Sparse Cholesky factorization of a substructure operator, computed once and reused for every
 //! solve (METHOD §4: S is SPD and constant; §11: factorize once, one forward/back solve per step).
-//! Symbolic analysis and numeric factorization are faer's; the solve scratch is allocated once.
+//! Symbolic analysis (in the order of [`super::ordering`]) and numeric factorization are faer's;
+//! the solve scratch is allocated once.
 //! The factor is computed and kept in double precision, or in single
 //! ([`CholeskyFactor::try_new_single`]: half the memory, the factorization's own included, and
 //! half the bytes each solve reads; the solution accurate to the rounding of single precision
-//! times the conditioning of S), or computed in double and rounded
+//! times the conditioning of S, which the solver's linear stage refines against S in double),
+//! or computed in double and rounded
 //! ([`CholeskyFactor::into_single`]).
 
 use faer::dyn_stack::{MemBuffer, MemStack};
@@ -14,6 +16,12 @@ use faer::sparse::linalg::cholesky::{
 };
 use faer::sparse::{SparseColMat, Triplet};
 use faer::{Conj, MatMut, Par, Side};
+
+/// Substructures with at least this many nodes (three dofs each) have factors large enough for
+/// their solves to be bound by memory traffic: nested dissection orders them
+/// ([`super::ordering`]) and [`crate::scene::settings::FactorPrecision::Auto`] keeps them in
+/// single precision.
+pub const LARGE_NODES: usize = 3000;
 
 /// A numeric LLᵀ factor of an SPD sparse matrix.
 #[derive(Debug)]
@@ -236,22 +244,33 @@ impl CholeskyFactor {
     }
 }
 
-/// The symbolic analysis (AMD ordering) and the numeric LLᵀ factorization of the SPD matrix given
-/// by its lower-triangle triplets, in the precision of its entries.
+/// The symbolic analysis (the ordering of [`super::ordering`]) and the numeric LLᵀ factorization
+/// of the SPD matrix given by its lower-triangle triplets, in the precision of its entries.
 fn factorize<T: faer::traits::ComplexField>(
     n: usize,
     lower: &[Triplet<usize, usize, T>],
 ) -> Result<(SymbolicCholesky<usize>, Vec<T>), FactorFailure> {
+    factorize_ordered(n, lower, super::ordering::dof_permutation(n, lower))
+}
+
+/// [`factorize`] with the permutation (new → old, old → new) given, or faer's minimum degree.
+pub(crate) fn factorize_ordered<T: faer::traits::ComplexField>(
+    n: usize,
+    lower: &[Triplet<usize, usize, T>],
+    permutation: Option<(Vec<usize>, Vec<usize>)>,
+) -> Result<(SymbolicCholesky<usize>, Vec<T>), FactorFailure> {
     let failed = |reason: String| FactorFailure { reason, dof: None };
     let mat =
         SparseColMat::try_new_from_triplets(n, n, lower).map_err(|e| failed(format!("{e:?}")))?;
-    let symbolic = factorize_symbolic_cholesky(
-        mat.symbolic(),
-        Side::Lower,
-        SymmetricOrdering::Amd,
-        Default::default(),
-    )
-    .map_err(|e| failed(format!("symbolic analysis: {e:?}")))?;
+    let ordering = match &permutation {
+        Some((forward, inverse)) => {
+            SymmetricOrdering::Custom(faer::perm::PermRef::new_checked(forward, inverse, n))
+        }
+        None => SymmetricOrdering::Amd,
+    };
+    let symbolic =
+        factorize_symbolic_cholesky(mat.symbolic(), Side::Lower, ordering, Default::default())
+            .map_err(|e| failed(format!("symbolic analysis: {e:?}")))?;
     let mut values = vec![T::zero_impl(); symbolic.len_val()];
     let par = Par::Seq;
     let mut mem =

@@ -13,6 +13,7 @@ use std::collections::HashMap;
 
 use crate::error::{LopinError, Result};
 use crate::scene::face_index::FaceIndex;
+use crate::scene::settings::FactorPrecision;
 use crate::scene::spec::face_of;
 use crate::scene::spec::{InterfaceKind, SceneSpec};
 
@@ -383,7 +384,8 @@ pub fn footprint_with_meshes(
     } else {
         "body"
     };
-    let totals = group_totals(&groups, shape, source, field)?;
+    let precision = spec.solver.factors.unwrap_or_default();
+    let totals = group_totals(&groups, shape, precision, source, field)?;
     let n1 = spec.time.steps as u128 + 1;
     // s, s_new (per substructure trace) and ŝ (per interface side): F and W each
     let interface = n1.saturating_mul(trace).saturating_mul(2 * F64 * 3);
@@ -468,10 +470,11 @@ struct GroupTotals {
 
 /// The sizes of `groups` summed in order: counts checked (an overflow is an error naming
 /// `field`), byte counts saturating, homogenized operators counted only for a two-scale
-/// `shape`.
+/// `shape`, factors in the `precision` each group's size gets.
 fn group_totals(
     groups: &[PieceGroup],
     shape: SolveShape,
+    precision: FactorPrecision,
     source: &str,
     field: &str,
 ) -> Result<GroupTotals> {
@@ -486,7 +489,7 @@ fn group_totals(
         classes: 0,
     };
     for g in groups {
-        let sizes = group_sizes(g).ok_or_else(|| overflow(field))?;
+        let sizes = group_sizes(g, precision).ok_or_else(|| overflow(field))?;
         t.substructures = t
             .substructures
             .checked_add(g.count)
@@ -519,7 +522,7 @@ struct GroupSizes {
     macro_bytes: u128,
 }
 
-fn group_sizes(g: &PieceGroup) -> Option<GroupSizes> {
+fn group_sizes(g: &PieceGroup, precision: FactorPrecision) -> Option<GroupSizes> {
     let product = |v: [u128; 3]| v[0].checked_mul(v[1])?.checked_mul(v[2]);
     let node_dims = g.div.map(|d| d.saturating_add(1));
     let per_piece_nodes = product(node_dims)?;
@@ -537,10 +540,16 @@ fn group_sizes(g: &PieceGroup) -> Option<GroupSizes> {
     dims.sort_unstable();
     let band = ndof.saturating_mul(dims[0].saturating_mul(dims[1]).saturating_mul(3).min(ndof));
     let dissection = (35.0 * (ndof as f64).powf(4.0 / 3.0)).min(u128::MAX as f64 / 2.0) as u128;
+    // a factor kept in single precision stores half the bytes per entry
+    let entry = if precision.single_for(usize::try_from(ndof).unwrap_or(usize::MAX)) {
+        FACTOR_ENTRY / 2
+    } else {
+        FACTOR_ENTRY
+    };
     let factor_bytes = g
         .classes
         .saturating_mul(band.min(dissection))
-        .saturating_mul(FACTOR_ENTRY);
+        .saturating_mul(entry);
     // Z_E: 9 macro fields per face of the substructure, a column per field
     let macro_bytes = g.classes.saturating_mul(ndof).saturating_mul(54 * F64);
     Some(GroupSizes {

@@ -72,8 +72,12 @@ impl StopTest {
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum FactorPrecision {
-    /// Kept in double precision.
+    /// Single precision for the substructures of at least
+    /// [`crate::linalg::factor::LARGE_NODES`] nodes, whose solves are bound by memory traffic;
+    /// double below, where single precision would be slower.
     #[default]
+    Auto,
+    /// Kept in double precision.
     Double,
     /// Computed and kept in single precision: half the memory, faster solves; each solve is
     /// refined in double by the linear stage, which converges to the double-precision solution.
@@ -81,14 +85,15 @@ pub enum FactorPrecision {
 }
 
 impl FactorPrecision {
-    /// Parses `double` or `single`.
+    /// Parses `auto`, `double` or `single`.
     pub fn parse(name: &str) -> Result<Self> {
         match name {
+            "auto" => Ok(Self::Auto),
             "double" => Ok(Self::Double),
             "single" => Ok(Self::Single),
             _ => Err(LopinError::setting(
                 "factors",
-                format!("unknown precision `{name}` (double, single)"),
+                format!("unknown precision `{name}` (auto, double, single)"),
             )),
         }
     }
@@ -98,14 +103,24 @@ impl FactorPrecision {
         Self::parse(name).map_err(|e| e.to_string())
     }
 
-    /// Whether it is double precision (the default).
-    pub fn is_double(&self) -> bool {
-        *self == Self::Double
+    /// Whether it is the default, [`Self::Auto`].
+    pub fn is_auto(&self) -> bool {
+        *self == Self::Auto
+    }
+
+    /// Whether a substructure of `ndof` dofs keeps its factor in single precision.
+    pub fn single_for(&self, ndof: usize) -> bool {
+        match self {
+            Self::Auto => ndof / 3 >= crate::linalg::factor::LARGE_NODES,
+            Self::Double => false,
+            Self::Single => true,
+        }
     }
 
     /// Name.
     pub fn name(&self) -> &'static str {
         match self {
+            Self::Auto => "auto",
             Self::Double => "double",
             Self::Single => "single",
         }

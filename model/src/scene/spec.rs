@@ -137,9 +137,10 @@ pub struct SolverSpec {
     #[serde(default, rename = "macro", skip_serializing_if = "Option::is_none")]
     #[cfg_attr(feature = "cli", arg(long = "macro", value_name = "on|off", value_parser = crate::scene::settings::switch_from_arg))]
     pub two_scale: Option<bool>,
-    /// Precision the factors of S are kept in: `double`, or `single` (half their memory and
-    /// faster triangular solves where the factors outgrow the cache, each solve refined in
-    /// double so that LATIN converges to the double-precision solution; default double).
+    /// Precision the factors of S are kept in: `single` (half their memory and faster
+    /// triangular solves where the factors are large, each solve refined in double so that
+    /// LATIN converges to the double-precision solution), `double`, or `auto` (single for
+    /// substructures of 3,000 nodes and more, double below; the default).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[cfg_attr(feature = "cli", arg(long, value_parser = crate::scene::settings::FactorPrecision::from_arg))]
     pub factors: Option<crate::scene::settings::FactorPrecision>,
