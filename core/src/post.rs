@@ -14,7 +14,9 @@ use crate::interfaces::interface::Law;
 use crate::mesh::{dot, Element, Vec3};
 use crate::par;
 use crate::solver::{Solution, Solver};
-use crate::stages::linear_stage::{replay_stage, LinearInput, LinearWork, StepVisitor, SubState};
+use crate::stages::linear_stage::{
+    march, predict_refined, LinearInput, LinearWork, StepVisitor, SubState,
+};
 use crate::state::TraceHistory;
 use crate::substructure::{SideRef, Substructure};
 
@@ -47,7 +49,15 @@ pub fn replay(
         time: p.step_coefficients(),
         steps: (1, until),
     };
-    replay_stage(sub, factor, &mut work, &input, &mut out, Some(visit));
+    march(
+        sub,
+        factor,
+        &mut work,
+        &input,
+        &mut out,
+        Some(visit),
+        predict_refined,
+    );
 }
 
 /// Nodal velocities of every substructure at every step of a converged solution: `[m][sub][dof]`.

@@ -13,8 +13,9 @@ use lopin_core::post;
 use lopin_core::problem::Problem;
 use lopin_core::scene::spec::SolverSpec;
 use lopin_core::scene::{self, SceneSpec};
+use lopin_core::solver::batch::{step_together, Lane};
 use lopin_core::time::time_function::TimeGrid;
-use lopin_core::{Settings, Solution, Solver};
+use lopin_core::{Control, Parameter, Settings, Solution, Solver};
 use lopin_judge::compare::{compare, Comparison};
 use lopin_reference::monolithic::Monolithic;
 use mono1d::{Chain, Contact};
@@ -293,4 +294,58 @@ pub fn largest_difference(
     va.zip(vb).fold((0.0f64, 0.0f64), |(d, p), (x, y)| {
         (d.max((scale * x - y).abs()), p.max(y.abs()))
     })
+}
+
+/// Solves `frictions` in lanes of one solver made from `base` (sharing its factors), from
+/// `starts` (None: cold), all advanced together one iteration at a time.
+pub fn solve_in_lanes(
+    base: &Solver,
+    frictions: &[f64],
+    starts: &[Option<&lopin_core::state::InterfaceState>],
+) -> Vec<Solution> {
+    let mut solvers: Vec<Solver> = frictions
+        .iter()
+        .map(|&f| {
+            let mut s = base.lane().expect("lane");
+            s.set_parameter(Parameter::Friction, f).expect("friction");
+            assert!(s.shares_factors(base));
+            s
+        })
+        .collect();
+    let mut runs: Vec<_> = solvers
+        .iter_mut()
+        .zip(starts)
+        .map(|(s, start)| s.begin(*start).expect("begin"))
+        .collect();
+    let mut ended = vec![false; frictions.len()];
+    while ended.iter().any(|e| !e) {
+        let mut lanes: Vec<Lane<'_>> = solvers
+            .iter_mut()
+            .zip(runs.iter_mut())
+            .map(|(solver, run)| Lane { solver, run })
+            .collect();
+        ended = step_together(&mut lanes, &mut |_, _| Control::Continue);
+    }
+    solvers
+        .iter()
+        .zip(runs)
+        .map(|(s, run)| s.conclude(run).expect("solution"))
+        .collect()
+}
+
+/// Largest difference between two interface states, relative to the largest value of each
+/// field (F and W apart).
+pub fn state_difference(a: &Solution, b: &Solution) -> f64 {
+    let mut worst: f64 = 0.0;
+    for (x, y) in a.state.subs.iter().zip(&b.state.subs) {
+        for (p, q) in [(&x.f, &y.f), (&x.w, &y.w)] {
+            let scale = q.iter().fold(f64::MIN_POSITIVE, |m, v| m.max(v.abs()));
+            let d = p
+                .iter()
+                .zip(q)
+                .fold(0.0f64, |m, (u, v)| m.max((u - v).abs()));
+            worst = worst.max(d / scale);
+        }
+    }
+    worst
 }

@@ -16,6 +16,7 @@ use lopin_core::solver::{Control, Solution};
 use lopin_core::study::runner::{self, Outcome, RunOptions};
 use lopin_core::study::{Design, Spread, Target};
 use lopin_core::{Parameter, Settings, Solver};
+use lopin_tests::{solve_in_lanes, state_difference};
 
 /// `two-blocks` with its settings at tolerance `tol` on windows of `window` steps (over the
 /// whole interval with the dissipative scheme ρ∞ = 0.5, which converges there in fewer
@@ -30,59 +31,6 @@ fn opened(tol: f64, window: Option<usize>) -> (lopin_core::Problem, Settings) {
         settings.rho_inf = 0.5;
     }
     (problem, settings)
-}
-
-/// Largest difference between two interface states, relative to the largest value of each
-/// field (F and W apart).
-fn state_difference(a: &Solution, b: &Solution) -> f64 {
-    let mut worst: f64 = 0.0;
-    for (x, y) in a.state.subs.iter().zip(&b.state.subs) {
-        for (p, q) in [(&x.f, &y.f), (&x.w, &y.w)] {
-            let scale = q.iter().fold(f64::MIN_POSITIVE, |m, v| m.max(v.abs()));
-            let d = p
-                .iter()
-                .zip(q)
-                .fold(0.0f64, |m, (u, v)| m.max((u - v).abs()));
-            worst = worst.max(d / scale);
-        }
-    }
-    worst
-}
-
-/// Solves `frictions` in lanes of one solver, from `starts` (None: cold), all together.
-fn together(
-    base: &Solver,
-    frictions: &[f64],
-    starts: &[Option<&lopin_core::state::InterfaceState>],
-) -> Vec<Solution> {
-    let mut solvers: Vec<Solver> = frictions
-        .iter()
-        .map(|&f| {
-            let mut s = base.lane().expect("lane");
-            s.set_parameter(Parameter::Friction, f).expect("friction");
-            assert!(s.shares_factors(base));
-            s
-        })
-        .collect();
-    let mut runs: Vec<_> = solvers
-        .iter_mut()
-        .zip(starts)
-        .map(|(s, start)| s.begin(*start).expect("begin"))
-        .collect();
-    let mut ended = vec![false; frictions.len()];
-    while ended.iter().any(|e| !e) {
-        let mut lanes: Vec<Lane<'_>> = solvers
-            .iter_mut()
-            .zip(runs.iter_mut())
-            .map(|(solver, run)| Lane { solver, run })
-            .collect();
-        ended = step_together(&mut lanes, &mut |_, _| Control::Continue);
-    }
-    solvers
-        .iter()
-        .zip(runs)
-        .map(|(s, run)| s.conclude(run).expect("solution"))
-        .collect()
 }
 
 /// Each friction coefficient solved alone on a solver of its own, from `starts`.
@@ -114,7 +62,7 @@ fn lanes_reach_what_each_configuration_reaches_alone() {
     for window in [Some(1), None] {
         let (problem, settings) = opened(1e-5, window);
         let base = Solver::new(problem.clone(), settings).expect("solver");
-        let lone = together(&base, &[0.3], &[None]);
+        let lone = solve_in_lanes(&base, &[0.3], &[None]);
         let single = alone(&problem, settings, &[0.3], &[None]);
         assert_eq!(lone[0].iterations, single[0].iterations);
         assert_eq!(lone[0].state, single[0].state, "window {window:?}");
@@ -133,7 +81,7 @@ fn lanes_reach_what_each_configuration_reaches_alone() {
         }
 
         let frictions = [0.0, 0.3, 0.6];
-        let cold = together(&base, &frictions, &[None, None, None]);
+        let cold = solve_in_lanes(&base, &frictions, &[None, None, None]);
         let reference = alone(&problem, settings, &frictions, &[None, None, None]);
         for (a, b) in cold.iter().zip(&reference) {
             assert!(a.converged && b.converged);
@@ -147,7 +95,7 @@ fn lanes_reach_what_each_configuration_reaches_alone() {
             Some(&reference[2].state),
             Some(&reference[0].state),
         ];
-        let warm = together(&base, &frictions, &starts);
+        let warm = solve_in_lanes(&base, &frictions, &starts);
         let warm_reference = alone(&problem, settings, &frictions, &starts);
         for (a, b) in warm.iter().zip(&warm_reference) {
             assert!(a.converged);

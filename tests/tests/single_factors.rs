@@ -9,7 +9,7 @@
 
 use lopin_core::scene::settings::FactorPrecision;
 use lopin_core::{scene, Solver};
-use lopin_tests::{against_reference, largest_difference, solve};
+use lopin_tests::{against_reference, largest_difference, solve, solve_in_lanes, state_difference};
 
 #[test]
 fn single_precision_factors_halve_the_memory_and_converge_to_the_double_precision_solution() {
@@ -172,8 +172,7 @@ fn the_default_precision_is_single_for_large_substructures_only() {
 /// same configurations solved alone in double precision (to 1e-11 of each field's largest value).
 #[test]
 fn lanes_on_single_precision_factors_reach_the_double_precision_solutions() {
-    use lopin_core::solver::batch::{step_together, Lane};
-    use lopin_core::{Control, Parameter, Settings};
+    use lopin_core::{Parameter, Settings};
     let spec = scene::load("two-blocks").expect("scene");
     let problem = scene::problem_of(&spec, "two-blocks").expect("builds");
     let mut settings = Settings::for_problem(&problem, &spec.solver);
@@ -189,29 +188,8 @@ fn lanes_on_single_precision_factors_reach_the_double_precision_solutions() {
     )
     .expect("solver");
     let frictions = [0.1, 0.6];
-    let mut lanes: Vec<Solver> = frictions
-        .iter()
-        .map(|&f| {
-            let mut s = single.lane().expect("lane");
-            s.set_parameter(Parameter::Friction, f).expect("friction");
-            s
-        })
-        .collect();
-    let mut runs: Vec<_> = lanes
-        .iter_mut()
-        .map(|s| s.begin(None).expect("begin"))
-        .collect();
-    let mut ended = vec![false; frictions.len()];
-    while ended.iter().any(|e| !e) {
-        let mut batch: Vec<Lane<'_>> = lanes
-            .iter_mut()
-            .zip(runs.iter_mut())
-            .map(|(solver, run)| Lane { solver, run })
-            .collect();
-        ended = step_together(&mut batch, &mut |_, _| Control::Continue);
-    }
-    for ((lane, run), &f) in lanes.iter().zip(runs).zip(&frictions) {
-        let sol = lane.conclude(run).expect("solution");
+    let solutions = solve_in_lanes(&single, &frictions, &[None, None]);
+    for (sol, &f) in solutions.iter().zip(&frictions) {
         let mut alone = double.lane().expect("lane");
         alone
             .set_parameter(Parameter::Friction, f)
@@ -224,17 +202,7 @@ fn lanes_on_single_precision_factors_reach_the_double_precision_solutions() {
             sol.iterations,
             reference.iterations
         );
-        let mut worst: f64 = 0.0;
-        for (x, y) in sol.state.subs.iter().zip(&reference.state.subs) {
-            for (p, q) in [(&x.f, &y.f), (&x.w, &y.w)] {
-                let scale = q.iter().fold(f64::MIN_POSITIVE, |m, v| m.max(v.abs()));
-                let d = p
-                    .iter()
-                    .zip(q)
-                    .fold(0.0f64, |m, (u, v)| m.max((u - v).abs()));
-                worst = worst.max(d / scale);
-            }
-        }
+        let worst = state_difference(sol, &reference);
         println!(
             "f = {f}: {} iterations against {}, states {worst:.3e} apart",
             sol.iterations, reference.iterations

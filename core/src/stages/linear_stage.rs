@@ -212,21 +212,10 @@ pub fn linear_stage(
     march(sub, factor, work, input, out, visit, predict)
 }
 
-/// [`linear_stage`] with every solve to double-precision accuracy also where the factor keeps
-/// single precision ([`predict_refined`]): a replay, which has no iteration to refine over.
-pub fn replay_stage(
-    sub: &Substructure,
-    factor: &CholeskyFactor,
-    work: &mut LinearWork,
-    input: &LinearInput<'_>,
-    out: &mut TraceHistory,
-    visit: Option<&mut StepVisitor<'_>>,
-) -> IndicatorSums {
-    march(sub, factor, work, input, out, visit, predict_refined)
-}
-
-/// The march of [`linear_stage`] with the micro solve `solve`.
-fn march(
+/// The march of [`linear_stage`] with the micro solve `solve`: [`predict`], or
+/// [`predict_refined`] for a replay, which has no iteration to refine a single-precision solve
+/// over.
+pub fn march(
     sub: &Substructure,
     factor: &CholeskyFactor,
     work: &mut LinearWork,

@@ -14,6 +14,7 @@ use faer::sparse::Triplet;
 use super::factor::LARGE_NODES;
 
 /// Pieces of at most this many nodes are not dissected further.
+#[cfg(feature = "partition")]
 const LEAF_NODES: usize = 8;
 
 /// The fill-reducing permutation of the dofs for a lower-triangle pattern of `n` dofs (three a
