@@ -432,17 +432,11 @@ fn factorize(
         }
         let sub = &problem.subs[classes.representatives[c]];
         let triplets = sub.operator_triplets(&time, k);
-        #[cfg(not(target_arch = "wasm32"))]
-        let factor = if precision.single_for(sub.ndof()) {
-            CholeskyFactor::try_new_single(sub.ndof(), &triplets)
-        } else {
-            CholeskyFactor::try_new(sub.ndof(), &triplets)
-        };
-        // the browser build keeps double precision
-        #[cfg(target_arch = "wasm32")]
-        let factor = {
-            let _ = precision;
-            CholeskyFactor::try_new(sub.ndof(), &triplets)
+        // `single_for` is false in the browser build, which has no single-precision factor
+        let factor = match precision.single_for(sub.ndof()) {
+            #[cfg(not(target_arch = "wasm32"))]
+            true => CholeskyFactor::try_new_single(sub.ndof(), &triplets),
+            _ => CholeskyFactor::try_new(sub.ndof(), &triplets),
         };
         factor
             .map(Some)

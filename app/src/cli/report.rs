@@ -450,11 +450,14 @@ fn precision_words(
     factors: &[&lopin_core::linalg::factor::CholeskyFactor],
 ) -> String {
     let single = factors.iter().filter(|f| f.is_single()).count();
-    match (single, factors.len() - single) {
-        (0, _) if !asked.is_auto() || factors.is_empty() => "double precision".into(),
-        (_, 0) if !asked.is_auto() => "single precision".into(),
-        (0, _) => "auto: double precision".into(),
-        (_, 0) => "auto: single precision".into(),
-        (s, d) => format!("auto: {s} single, {d} double"),
+    let words = match (single, factors.len() - single) {
+        (0, _) => "double precision".to_string(),
+        (_, 0) => "single precision".to_string(),
+        (s, d) => format!("{s} single, {d} double"),
+    };
+    if asked.is_auto() && !factors.is_empty() {
+        format!("auto: {words}")
+    } else {
+        words
     }
 }

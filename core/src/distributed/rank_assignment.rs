@@ -125,10 +125,9 @@ fn partition_graph(problem: &Problem, ranks: usize) -> Result<Vec<usize>, String
         .map(|s| idx(s.ndof().max(1)))
         .collect::<Result<_, _>>()?;
     let mut part = vec![0; n];
-    // METIS keeps its random state in globals: one call at a time gives the same deal to every
-    // caller (ranks that are threads of one process included)
-    static METIS: std::sync::Mutex<()> = std::sync::Mutex::new(());
-    let _one_at_a_time = METIS.lock().unwrap_or_else(|e| e.into_inner());
+    // one METIS call at a time gives the same deal to every caller (ranks that are threads of
+    // one process included)
+    let _one_at_a_time = crate::mesh::partition::metis_guard();
     metis::Graph::new(1, idx(ranks)?, &xadj, &adjncy)
         .map_err(|e| format!("the substructure graph is not valid: {e}"))?
         .set_vwgt(&vwgt)

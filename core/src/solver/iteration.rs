@@ -274,7 +274,7 @@ impl Solver {
             .collect();
         let window = self.settings.window.unwrap_or(n).clamp(1, n);
         let warm_last = if start.is_some() {
-            step_values(&s, window.min(n))
+            step_values(&s, window)
         } else {
             Vec::new()
         };

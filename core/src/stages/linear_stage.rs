@@ -263,11 +263,18 @@ pub fn predict_refined(
 ) {
     predict(sub, factor, work, input, m);
     if work.single {
-        let mut ckv = vec![0.0; work.rhs_then_v.len()];
-        sub.stiffness.mul_into(&work.rhs_then_v, &mut ckv);
+        // the first solution and its c_K K v (in the buffer the next form_rhs refills) are
+        // the guess of the second solve
+        let LinearWork {
+            rhs_then_v: v,
+            rhs_then_ckv: ckv,
+            guesses,
+            ..
+        } = work;
+        sub.stiffness.mul_into(v, ckv);
         let ck = input.time.stiffness;
         ckv.iter_mut().for_each(|x| *x *= ck);
-        work.guesses.store(m, input.steps.0, &work.rhs_then_v, &ckv);
+        guesses.store(m, input.steps.0, v, ckv);
         predict(sub, factor, work, input, m);
     }
 }

@@ -23,7 +23,7 @@ pub fn dof_permutation<T>(
     n: usize,
     lower: &[Triplet<usize, usize, T>],
 ) -> Option<(Vec<usize>, Vec<usize>)> {
-    if !n.is_multiple_of(3) || n / 3 < LARGE_NODES {
+    if !cfg!(feature = "partition") || !n.is_multiple_of(3) || n / 3 < LARGE_NODES {
         return None;
     }
     let nodes = nested_dissection(&node_graph(n / 3, lower))?;
@@ -111,10 +111,13 @@ fn bisect(
         xadj.push(adjncy.len() as metis::Idx);
     }
     let mut part = vec![0 as metis::Idx; piece.len()];
-    let parted = metis::Graph::new(1, 2, &xadj, &adjncy)
-        .ok()
-        .and_then(|g| g.part_recursive(&mut part).ok())
-        .is_some();
+    let parted = {
+        let _one_at_a_time = crate::mesh::partition::metis_guard();
+        metis::Graph::new(1, 2, &xadj, &adjncy)
+            .ok()
+            .and_then(|g| g.part_recursive(&mut part).ok())
+            .is_some()
+    };
     // the boundary of each side: its nodes with a neighbour on the other side
     let mut boundary = [Vec::new(), Vec::new()];
     if parted {

@@ -10,6 +10,14 @@ use std::collections::HashMap;
 
 use crate::mesh::Mesh;
 
+/// One METIS call at a time in the whole process: METIS keeps its random state in globals, so
+/// concurrent calls (threads of one process, the factorizations' orderings beside a partition
+/// or a deal of ranks) would disturb each other's results. Every METIS call takes this guard.
+pub fn metis_guard() -> std::sync::MutexGuard<'static, ()> {
+    static METIS: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    METIS.lock().unwrap_or_else(|e| e.into_inner())
+}
+
 /// Largest relative deviation of a part's dofs from the mean that the partitioner aims for.
 pub const DOF_BALANCE: f64 = 0.10;
 
@@ -103,6 +111,7 @@ fn kway(
     contiguous: bool,
 ) -> Result<Vec<metis::Idx>, String> {
     let mut part = vec![0; weight.len()];
+    let _one_at_a_time = metis_guard();
     metis::Graph::new(1, nparts, xadj, adjncy)
         .map_err(|e| format!("the element graph is not valid: {e}"))?
         .set_vwgt(weight)

@@ -108,8 +108,12 @@ impl FactorPrecision {
         *self == Self::Auto
     }
 
-    /// Whether a substructure of `ndof` dofs keeps its factor in single precision.
+    /// Whether a substructure of `ndof` dofs keeps its factor in single precision (never in
+    /// the browser build, which keeps double precision).
     pub fn single_for(&self, ndof: usize) -> bool {
+        if cfg!(target_arch = "wasm32") {
+            return false;
+        }
         match self {
             Self::Auto => ndof / 3 >= crate::linalg::factor::LARGE_NODES,
             Self::Double => false,
