@@ -504,7 +504,7 @@ impl ExplorerApp {
         FrameState {
             busy: self.solve.busy(),
             converged: self.solve.converged(),
-            background: self.study.running().is_some(),
+            background: !self.study.running().is_empty(),
             study_complete: self.study.complete(),
         }
     }

@@ -8,6 +8,7 @@
 //! difference field or side by side. Shared by the desktop binary and the web build.
 
 pub mod app;
+mod background;
 pub mod camera;
 pub mod clock;
 pub mod colormap;

@@ -54,7 +54,13 @@ pub struct StudyControl {
     /// "A"): when it is stored, its picture at the displayed step comes first, without waiting
     /// for the user to be idle, paused or not.
     pub pinned: Option<f64>,
+    /// How many values it solves at once, on lanes that share the factorizations (each lane
+    /// holds one solve's state besides the stored configurations).
+    pub lanes: usize,
 }
+
+/// How many values the background study solves at once unless told otherwise.
+pub const BACKGROUND_LANES: usize = 4;
 
 impl Default for StudyControl {
     fn default() -> Self {
@@ -62,6 +68,7 @@ impl Default for StudyControl {
             paused: false,
             idle_s: 1.0,
             pinned: None,
+            lanes: BACKGROUND_LANES,
         }
     }
 }
@@ -197,8 +204,8 @@ pub enum Event {
     },
     /// A configuration was stored, or a stored one pictured at the displayed step.
     Stored(Arc<StoredConfig>),
-    /// The background study started solving this friction value (None: it stopped).
-    Background(Option<f64>),
+    /// The friction values the background study is solving now (empty: none).
+    Background(Vec<f64>),
 }
 
 /// The time step on screen, shared by the UI (which moves it) and the solver side (which

@@ -2,17 +2,19 @@
 //! per scene, METHOD §4), re-solves warm whenever a parameter moves (METHOD §8 multiresolution:
 //! from the nearest stored configuration, or the newest interface state), and answers field,
 //! probe and record requests. It also runs the background study ([`crate::study`]): when the
-//! user has been idle for a while, it solves the friction grid's values nearest-first, each warm
-//! from its nearest stored neighbour, and keeps every converged configuration (states in f32,
+//! user has been idle for a while, it solves the friction grid's values nearest-first, several
+//! at once on lanes that share the factorizations ([`crate::background`]), each warm from its
+//! nearest stored neighbour, and keeps every converged configuration (states in f32,
 //! a picture for the UI), so a value already stored is shown again without solving; the
 //! configuration the UI compares with (pinned "A") is pictured at each displayed step first,
 //! paused or not. It is a
 //! state machine advanced one [`Service::tick`] at a time (one LATIN iteration or one request),
 //! so the same code runs on a background thread on the desktop and a few iterations per frame
-//! in the browser, where there are no threads. A newer solve request cancels the running solve
-//! (the user's or the background's) at the next tick; a cancelled user iterate is still a good
-//! start for the new one. It reads and writes only the messages of [`crate::protocol`].
+//! in the browser's worker. A newer solve request cancels the running solve (the user's or the
+//! background's) at the next tick; a cancelled user iterate is still a good start for the new
+//! one. It reads and writes only the messages of [`crate::protocol`].
 
+use crate::background::{BackgroundSolve, Lanes};
 use crate::fields::{self, StepFields};
 use crate::params::Params;
 use crate::picture::Picture;
@@ -36,18 +38,10 @@ use std::time::Duration;
 /// [`Service::set_live_period`]).
 const LIVE_PERIOD_S: f64 = 0.12;
 
-/// Who asked for a solve.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Origin {
-    /// The user, with the generation of the change.
-    User(u64),
-    /// The background study.
-    Background,
-}
-
-/// A solve between two ticks.
+/// The user's solve between two ticks.
 struct Running {
-    origin: Origin,
+    /// The generation of the change it solves.
+    generation: u64,
     params: Params,
     run: SolveRun,
     /// The friction value of the state it started from (between two, the nearer).
@@ -59,6 +53,24 @@ struct Running {
     iterations: Vec<IterationRecord>,
 }
 
+/// What the library keeps of a converged configuration besides its states: its quantities of
+/// interest and its picture at the displayed step.
+struct Kept {
+    quantities: Quantities,
+    picture: Picture,
+}
+
+impl Kept {
+    /// Of `sol`, solved by `solver` (set to its parameters), with its fields `f`.
+    fn of(solver: &Solver, sol: &Solution, f: &StepFields) -> Kept {
+        let c = post::contact(solver, sol);
+        Kept {
+            quantities: Quantities::of(solver, sol),
+            picture: Picture::of(f, &c),
+        }
+    }
+}
+
 /// The newest solution the user asked for.
 struct Current {
     generation: u64,
@@ -68,10 +80,13 @@ struct Current {
 
 /// The solver and everything the worker remembers between requests.
 pub(crate) struct Service {
+    /// The user's solver (the background study solves on lanes of its own).
     solver: Solver,
     /// The parameter values the solver holds.
     applied: Params,
     running: Option<Running>,
+    /// The background study's configurations in progress.
+    background: Lanes,
     current: Option<Current>,
     /// The iterations of the newest solve.
     iterations: Vec<IterationRecord>,
@@ -113,6 +128,7 @@ impl Service {
                 solver,
                 applied,
                 running: None,
+                background: Lanes::default(),
                 current: None,
                 iterations: Vec::new(),
                 warm: false,
@@ -150,13 +166,13 @@ impl Service {
     /// Whether a solve is under way (the user's or the background study's) or waits for its
     /// release.
     pub(crate) fn solving(&self) -> bool {
-        self.running.is_some() || self.held.is_some()
+        self.running.is_some() || self.held.is_some() || !self.background.is_empty()
     }
 
     /// Whether the running solve is the background study's (requests are served before its
     /// next iteration; the solver thread pauses after each of them).
     pub(crate) fn in_background(&self) -> bool {
-        matches!(&self.running, Some(r) if r.origin == Origin::Background)
+        self.running.is_none() && !self.background.is_empty()
     }
 
     /// Does one unit of work: applies study controls, starts the newest requested solve
@@ -184,6 +200,9 @@ impl Service {
             if let Some(mut r) = self.running.take() {
                 r.run.cancel();
                 self.conclude(r);
+            }
+            if self.background.forget() {
+                self.send(Event::Background(Vec::new()));
             }
             self.held = None;
             if let Request::Solve {
@@ -228,6 +247,13 @@ impl Service {
                 }
                 return true;
             }
+            if !self.background.is_empty() {
+                for ended in self.background.step() {
+                    self.conclude_background(ended);
+                }
+                self.fill_lanes();
+                return true;
+            }
         }
         if queue.is_empty() {
             return self.study_tick();
@@ -270,7 +296,7 @@ impl Service {
         }
         let current = self.study_value()?;
         let step = self.display_step.get();
-        let work = self.library.next_value(current).is_some()
+        let work = self.library.next_value(current, &[]).is_some()
             || self.library.next_picture(current, step).is_some();
         if !work {
             return None;
@@ -315,18 +341,7 @@ impl Service {
         if self.last_change.elapsed().as_secs_f64() < self.control.idle_s {
             return false;
         }
-        if let Some(value) = self.library.next_value(current) {
-            let Some(c) = &self.current else {
-                return false;
-            };
-            let params = Params {
-                friction: Some(value),
-                ..c.params.clone()
-            };
-            self.start_run(Origin::Background, params, None);
-            if self.running.is_none() {
-                self.library.give_up(value);
-            }
+        if self.fill_lanes() {
             return true;
         }
         let step = self.display_step.get();
@@ -357,12 +372,75 @@ impl Service {
         }
     }
 
-    fn cancel_background(&mut self) {
-        if self.in_background() {
-            if let Some(mut r) = self.running.take() {
-                r.run.cancel();
-                self.conclude(r);
+    /// Begins background solves of the grid values nearest the user's, not stored and not in
+    /// progress, until [`StudyControl::lanes`] are in progress; each starts from the stored
+    /// configurations beside its value (else the user's newest state). Returns whether one began.
+    fn fill_lanes(&mut self) -> bool {
+        let Some(current) = self.study_value() else {
+            return false;
+        };
+        let mut began = false;
+        while self.background.len() < self.control.lanes.max(1) {
+            let (Some(c), Some(value)) = (
+                self.current.as_ref(),
+                self.library.next_value(current, &self.background.values()),
+            ) else {
+                break;
+            };
+            let params = Params {
+                friction: Some(value),
+                ..c.params.clone()
+            };
+            let stored = self.library.start_beside(value, Some(current));
+            let (state, start) = match &stored {
+                Some((s, v, _)) => (s, Some(*v)),
+                None => (&c.solution.state, Some(current)),
+            };
+            let begun =
+                self.background
+                    .begin(&self.solver, &self.applied, params, Some(state), start);
+            match begun {
+                Ok(()) => began = true,
+                // a value that cannot be set or begun is given up, not reported
+                Err(_) => self.library.give_up(value),
             }
+        }
+        if began {
+            self.send(Event::Background(self.background.values()));
+        }
+        began
+    }
+
+    /// A background solve ended: a converged configuration is stored and its picture sent; a
+    /// failed or unconverged one is given up.
+    fn conclude_background(&mut self, ended: BackgroundSolve) {
+        let BackgroundSolve {
+            solver,
+            params,
+            run,
+            start,
+        } = ended;
+        let value = params.friction.unwrap_or(f64::NAN);
+        if run.failure().is_some() {
+            self.library.give_up(value);
+        } else {
+            let sol = solver.finish(run);
+            if sol.converged && !sol.cancelled {
+                let step = self.display_step.get();
+                let f = fields::compute(&solver, &sol, step, 0, false);
+                let kept = Kept::of(&solver, &sol, &f);
+                self.store(value, &sol, kept, true, start);
+            } else if !sol.cancelled {
+                self.library.give_up(value);
+            }
+        }
+        self.background.keep(solver, params);
+        self.send(Event::Background(self.background.values()));
+    }
+
+    fn cancel_background(&mut self) {
+        if self.background.cancel() {
+            self.send(Event::Background(Vec::new()));
         }
     }
 
@@ -370,7 +448,7 @@ impl Service {
         if self.adopt_stored(generation, &params) {
             return;
         }
-        self.start_run(Origin::User(generation), params, None);
+        self.start_run(generation, params, None);
     }
 
     /// The library takes `params`' base (emptied if it had another); if it stores their
@@ -411,7 +489,7 @@ impl Service {
                 return;
             }
         };
-        if let Err(e) = self.apply(&params, true) {
+        if let Err(e) = self.apply(&params) {
             self.send(Event::Error(format!("{e}")));
             return;
         }
@@ -431,23 +509,13 @@ impl Service {
                 }
             }
             StoredResult::State(state) => {
-                self.start_run(Origin::User(generation), params, Some(state));
+                self.start_run(generation, params, Some(state));
             }
         }
     }
 
-    /// Sets `params` on the solver. A user's change is set over the user's newest parameters:
-    /// what a background solve set since (its friction value, on every contact or on one zone)
-    /// is undone first, so the values the user did not move are the user's.
-    fn apply(&mut self, params: &Params, user: bool) -> lopin_core::Result<()> {
-        if let Some(c) = self
-            .current
-            .as_ref()
-            .filter(|c| user && c.params != self.applied)
-        {
-            c.params.apply(&self.applied, &mut self.solver)?;
-            self.applied = c.params.clone();
-        }
+    /// Sets `params` on the user's solver.
+    fn apply(&mut self, params: &Params) -> lopin_core::Result<()> {
         params.apply(&self.applied, &mut self.solver)?;
         self.applied = params.clone();
         Ok(())
@@ -458,13 +526,9 @@ impl Service {
     /// state where that is strictly nearer (on a tie with a single stored one, the newest).
     /// With `from`, the solve starts from that state (a stored configuration of its own
     /// parameters).
-    fn start_run(&mut self, origin: Origin, params: Params, from: Option<InterfaceState>) {
-        let background = origin == Origin::Background;
-        if let Err(e) = self.apply(&params, !background) {
-            // a background value that cannot be set is given up, not reported
-            if !background {
-                self.send(Event::Error(format!("{e}")));
-            }
+    fn start_run(&mut self, generation: u64, params: Params, from: Option<InterfaceState>) {
+        if let Err(e) = self.apply(&params) {
+            self.send(Event::Error(format!("{e}")));
             return;
         }
         let newest = self.current.as_ref();
@@ -488,7 +552,7 @@ impl Service {
         match self.solver.begin(state) {
             Ok(run) => {
                 self.running = Some(Running {
-                    origin,
+                    generation,
                     params,
                     run,
                     start,
@@ -497,13 +561,8 @@ impl Service {
                     last_live: Instant::now(),
                     iterations: Vec::new(),
                 });
-                if background {
-                    let value = self.running.as_ref().and_then(|r| r.params.friction);
-                    self.send(Event::Background(value));
-                }
             }
-            Err(e) if !background => self.send(Event::Error(format!("{e}"))),
-            Err(_) => {}
+            Err(e) => self.send(Event::Error(format!("{e}"))),
         }
     }
 
@@ -512,7 +571,7 @@ impl Service {
     fn show_stored(&mut self, generation: u64, params: Params, index: usize) {
         let started = Instant::now();
         let Some(solution) = self.library.solution(index) else {
-            self.start_run(Origin::User(generation), params, None);
+            self.start_run(generation, params, None);
             return;
         };
         self.show_solution(generation, params, solution, started);
@@ -559,18 +618,11 @@ impl Service {
         shown
     }
 
-    /// One iteration; for the user's solve, sends its η and, every live period, the live
-    /// fields at the shown step (the background study sends nothing until it converges).
-    /// Returns whether the solve has ended.
+    /// One iteration of the user's solve: sends its η and, every live period, the live fields
+    /// at the shown step. Returns whether the solve has ended.
     fn iterate(&mut self, r: &mut Running) -> bool {
         let (events, display) = (&self.events, &self.display_step);
-        let Origin::User(generation) = r.origin else {
-            let iterations = &mut r.iterations;
-            return self.solver.step(&mut r.run, &mut |it| {
-                iterations.push(*it.record);
-                Control::Continue
-            });
-        };
+        let generation = r.generation;
         let (iterations, last_live) = (&mut r.iterations, &mut r.last_live);
         let period = self.live_period_s;
         let done = self.solver.step(&mut r.run, &mut |it| {
@@ -597,27 +649,11 @@ impl Service {
         done
     }
 
-    /// A solve ended (converged, failed or cancelled): the user's keeps its state, reports,
-    /// sends the converged fields and records them; a converged one, user's or background, is
-    /// stored in the library and its picture sent.
+    /// The user's solve ended (converged, failed or cancelled): it keeps its state, reports,
+    /// sends the converged fields and records them; a converged one is stored in the library
+    /// and its picture sent.
     fn conclude(&mut self, r: Running) {
-        let Origin::User(generation) = r.origin else {
-            let value = r.params.friction.unwrap_or(f64::NAN);
-            if r.run.failure().is_some() {
-                self.library.give_up(value);
-            } else {
-                let sol = self.solver.finish(r.run);
-                if sol.converged && !sol.cancelled {
-                    let step = self.display_step.get();
-                    let f = fields::compute(&self.solver, &sol, step, 0, false);
-                    self.store(value, &sol, f, true, r.start);
-                } else if !sol.cancelled {
-                    self.library.give_up(value);
-                }
-            }
-            self.send(Event::Background(None));
-            return;
-        };
+        let generation = r.generation;
         if let Some(failure) = r.run.failure() {
             // keep the last good state to restart from; say where the solve broke down
             self.send(Event::Error(format!(
@@ -675,32 +711,31 @@ impl Service {
         if let (Some(c), Some(f)) = (self.current.take(), shown) {
             if let Some(value) = c.params.friction {
                 let f = Arc::try_unwrap(f).unwrap_or_else(|f| (*f).clone());
-                self.store(value, &c.solution, f, false, start);
+                let kept = Kept::of(&self.solver, &c.solution, &f);
+                self.store(value, &c.solution, kept, false, start);
             }
             self.current = Some(c);
         }
     }
 
-    /// Keeps a converged configuration solved for the solver's current parameters, with its
-    /// fields `f` at the displayed step, and sends its picture.
+    /// Keeps a converged configuration with what was drawn of it, and sends its picture.
     fn store(
         &mut self,
         value: f64,
         sol: &Solution,
-        f: StepFields,
+        kept: Kept,
         background: bool,
         start: Option<f64>,
     ) {
-        let quantities = Quantities::of(&self.solver, sol);
-        let c = post::contact(&self.solver, sol);
-        self.library.insert(value, sol, quantities, f.step);
+        self.library
+            .insert(value, sol, kept.quantities, kept.picture.step);
         self.send_stored(StoredConfig {
             value,
             iterations: sol.iterations,
             background,
             start,
-            quantities,
-            picture: Picture::of(&f, &c),
+            quantities: kept.quantities,
+            picture: kept.picture,
             stored: 0,
             store_bytes: 0,
         });

@@ -210,15 +210,16 @@ impl Library {
     }
 
     /// The grid value to solve next, in the study engine's order ([`nearest_open`]): the
-    /// unstored one nearest `current` (ties: the lower), never one given up; None once one more
-    /// configuration would pass [`MEMORY_BUDGET`].
-    pub fn next_value(&self, current: f64) -> Option<f64> {
+    /// unstored one nearest `current` (ties: the lower), never one given up or `busy` (being
+    /// solved); None once the configurations being solved and one more would pass
+    /// [`MEMORY_BUDGET`].
+    pub fn next_value(&self, current: f64, busy: &[f64]) -> Option<f64> {
         let n = self.entries.len();
-        if n > 0 && self.bytes() / n * (n + 1) > MEMORY_BUDGET {
+        if n > 0 && self.bytes() / n * (n + 1 + busy.len()) > MEMORY_BUDGET {
             return None;
         }
-        let open =
-            |v: f64| self.exact(v).is_none() && !self.given_up.iter().any(|g| (g - v).abs() < SAME);
+        let near = |v: f64, among: &[f64]| among.iter().any(|g| (g - v).abs() < SAME);
+        let open = |v: f64| self.exact(v).is_none() && !near(v, &self.given_up) && !near(v, busy);
         nearest_open(&grid(), open, current)
     }
 
@@ -247,9 +248,12 @@ mod tests {
         assert_eq!(g.len(), 21);
         assert!((g[20] - 1.0).abs() < 1e-12 && g[0] == 0.0);
         let mut lib = Library::default();
-        assert!((lib.next_value(0.31).expect("a value") - 0.3).abs() < 1e-12);
-        assert!((lib.next_value(2.0).expect("a value") - 1.0).abs() < 1e-12);
+        assert!((lib.next_value(0.31, &[]).expect("a value") - 0.3).abs() < 1e-12);
+        assert!((lib.next_value(2.0, &[]).expect("a value") - 1.0).abs() < 1e-12);
         lib.give_up(0.3);
-        assert!((lib.next_value(0.31).expect("a value") - 0.35).abs() < 1e-12);
+        assert!((lib.next_value(0.31, &[]).expect("a value") - 0.35).abs() < 1e-12);
+        // values being solved are skipped like stored ones
+        assert!((lib.next_value(0.31, &[0.35]).expect("a value") - 0.25).abs() < 1e-12);
+        assert!((lib.next_value(0.31, &[0.35, 0.25]).expect("a value") - 0.4).abs() < 1e-12);
     }
 }

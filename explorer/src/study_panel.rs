@@ -71,9 +71,12 @@ fn body(
     );
     let activity = match (study.paused, study.running()) {
         (true, _) => "paused".to_string(),
-        (false, Some(v)) => format!("solving {label} = {v:.2} in the background"),
-        (false, None) if study.complete() => "every value stored".to_string(),
-        (false, None) => "waits for 1 s without changes".to_string(),
+        (false, []) if study.complete() => "every value stored".to_string(),
+        (false, []) => "waits for 1 s without changes".to_string(),
+        (false, values) => {
+            let values: Vec<String> = values.iter().map(|v| format!("{v:.2}")).collect();
+            format!("solving {label} = {} in the background", values.join(", "))
+        }
     };
     ui.weak(activity);
     ui.checkbox(&mut study.paused, "pause background study");

@@ -63,8 +63,8 @@ pub struct StudyView {
     points: Vec<StoredPoint>,
     /// The base of the stored configurations (every parameter but friction).
     base: Option<Params>,
-    /// The value the background study is solving.
-    running: Option<f64>,
+    /// The values the background study is solving.
+    running: Vec<f64>,
     /// Configurations and bytes of their states on the solver side.
     stored: usize,
     store_bytes: usize,
@@ -91,7 +91,7 @@ impl StudyView {
             grid: Vec::new(),
             points: Vec::new(),
             base: Some(study::base(params)),
-            running: None,
+            running: Vec::new(),
             stored: 0,
             store_bytes: 0,
             paused: false,
@@ -114,9 +114,9 @@ impl StudyView {
         &self.points
     }
 
-    /// The value the background study is solving.
-    pub fn running(&self) -> Option<f64> {
-        self.running
+    /// The values the background study is solving.
+    pub fn running(&self) -> &[f64] {
+        &self.running
     }
 
     /// How many grid values are stored.
@@ -189,9 +189,9 @@ impl StudyView {
         }
     }
 
-    /// The background study started (Some) or stopped (None) solving a value.
-    pub fn set_running(&mut self, value: Option<f64>) {
-        self.running = value;
+    /// The values the background study is solving now.
+    pub fn set_running(&mut self, values: Vec<f64>) {
+        self.running = values;
     }
 
     /// Unpins A: the current configuration alone again.

@@ -530,7 +530,7 @@ impl Run {
 
     /// Frames until the background study solves a value or `limit` passed.
     fn wait_for_study(&mut self, limit: Duration) -> bool {
-        self.frames_while(limit, |app| app.study.running().is_none())
+        self.frames_while(limit, |app| app.study.running().is_empty())
     }
 
     /// A click at `pos`: pointer there, pressed, released, a frame each.
@@ -675,7 +675,7 @@ impl Run {
     fn switch_scene(&mut self, to: &str) -> String {
         let (solving, studying) = (
             self.app().solve.busy(),
-            self.app().study.running().is_some(),
+            !self.app().study.running().is_empty(),
         );
         let mut how = "picker";
         if !self.click_widget(Role::ComboBox, "scene") {

@@ -1,6 +1,8 @@
 //! The explorer's background study: while the user is idle the worker solves the
 //! friction grid nearest-first and stores every converged configuration, whose picture and
-//! state equal a cold solve's within the sweep bound 30·tol; a request for a stored value is
+//! state equal a cold solve's within the sweep bound 30·tol; several values solved at once on
+//! lanes sharing the factorizations store the same configurations as one at a time (the values
+//! nearest first, each within 30·tol of a cold solve); a request for a stored value is
 //! answered without solving; one between two stored values starts warm from their states'
 //! interpolation in fewer iterations than from the nearer alone, one beyond them from the
 //! nearest, each in fewer than cold; a user change cancels the background configuration;
@@ -151,12 +153,18 @@ fn store_then_pause(worker: &mut Worker, events: &mut Vec<Event>, n: usize) {
 /// Starts a session with the background study running at once when idle; returns the worker,
 /// its parameters and the events of the first (cold) solve.
 fn session(spawn: Spawn, idle_s: f64) -> (Worker, Params, Vec<Event>) {
+    session_in_lanes(spawn, idle_s, StudyControl::default().lanes)
+}
+
+/// [`session`] with the background study solving `lanes` values at once.
+fn session_in_lanes(spawn: Spawn, idle_s: f64, lanes: usize) -> (Worker, Params, Vec<Event>) {
     let (problem, settings) = two_blocks();
     let mut worker = spawn(problem.clone(), settings);
     worker.set_display_step(problem.time.steps / 2);
     worker.set_study(StudyControl {
         paused: false,
         idle_s,
+        lanes,
         ..StudyControl::default()
     });
     let params = Params::of(&problem, &settings);
@@ -168,7 +176,7 @@ fn session(spawn: Spawn, idle_s: f64) -> (Worker, Params, Vec<Event>) {
 fn the_background_study_stores_the_grid_nearest_first_equal_to_cold_solves() {
     let (problem, settings) = two_blocks();
     let tol = settings.tol;
-    let (mut worker, params, mut events) = session(threaded, 0.0);
+    let (mut worker, params, mut events) = session_in_lanes(threaded, 0.0, 1);
     let grid = lopin_explorer::study::grid();
     let f0 = params.friction.expect("contact");
     collect(
@@ -260,6 +268,73 @@ fn the_background_study_stores_the_grid_nearest_first_equal_to_cold_solves() {
 }
 
 #[test]
+fn lanes_store_the_grid_nearest_first_equal_to_cold_solves_and_to_one_at_a_time() {
+    let (problem, settings) = two_blocks();
+    let tol = settings.tol;
+    let grid = lopin_explorer::study::grid();
+    let whole = |lanes: usize| {
+        let (mut worker, params, mut events) = session_in_lanes(threaded, 0.0, lanes);
+        collect(
+            &mut worker,
+            &mut events,
+            |e| matches!(e, Event::Stored(c) if c.stored == grid.len()),
+        );
+        (params, events)
+    };
+    let (params, one) = whole(1);
+    let lanes = 4;
+    let (_, events) = whole(lanes);
+    let f0 = params.friction.expect("contact");
+    let (one, four) = (stored(&one), stored(&events));
+    let iterations = |all: &[Arc<StoredConfig>]| all.iter().map(|c| c.iterations).sum::<usize>();
+    eprintln!(
+        "background study of {} values: {} iterations one at a time, {} in {lanes} lanes",
+        grid.len() - 1,
+        iterations(&one[1..]),
+        iterations(&four[1..])
+    );
+    // the lanes began at once with the values nearest the user's, and never solved more
+    let busy: Vec<&Vec<f64>> = events
+        .iter()
+        .filter_map(|e| match e {
+            Event::Background(v) => Some(v),
+            _ => None,
+        })
+        .collect();
+    assert!(busy.iter().all(|v| v.len() <= lanes));
+    let mut first = busy[0].clone();
+    first.sort_by(f64::total_cmp);
+    let nearest: Vec<f64> = [-2.0, -1.0, 1.0, 2.0].map(|k| f0 + 0.05 * k).to_vec();
+    for (a, b) in first.iter().zip(&nearest) {
+        assert!((a - b).abs() < 1e-9, "{first:?} against {nearest:?}");
+    }
+    for c in &four[1..] {
+        assert!(c.background && c.iterations > 0);
+        let start = c.start.expect("warm");
+        assert!(
+            (start - c.value).abs() < lanes as f64 * 0.05 + 1e-9,
+            "{} started from {start}",
+            c.value
+        );
+        // the same configuration as one at a time, both within 30·tol of a cold solve
+        let alone = one
+            .iter()
+            .find(|o| (o.value - c.value).abs() < 1e-9)
+            .expect("stored one at a time too");
+        let (solver, sol) = cold(&problem, settings, c.value);
+        let cold_fields = fields::compute(&solver, &sol, c.picture.step, 0, false);
+        let rel = velocity_gap(&c.picture.fields(0, false), &cold_fields);
+        let rel_alone = velocity_gap(&alone.picture.fields(0, false), &cold_fields);
+        assert!(rel < 30.0 * tol, "f = {}: {rel:.3e} > 30 tol", c.value);
+        assert!(rel_alone < 30.0 * tol, "f = {}: {rel_alone:.3e}", c.value);
+        let q = Quantities::of(&solver, &sol);
+        let peak =
+            (c.quantities.peak_normal_force - q.peak_normal_force).abs() / q.peak_normal_force;
+        assert!(peak < 30.0 * tol, "f = {}: peak force {peak:.2e}", c.value);
+    }
+}
+
+#[test]
 fn a_stored_value_is_shown_without_solving() {
     stored_value_shown_without_solving(threaded);
 }
@@ -296,7 +371,7 @@ fn stored_value_shown_without_solving(spawn: Spawn) {
 #[test]
 fn a_value_between_stored_ones_starts_from_their_interpolation_in_fewer_iterations() {
     let (problem, settings) = two_blocks();
-    let (mut worker, mut params, mut events) = session(inline, 0.0);
+    let (mut worker, mut params, mut events) = session_in_lanes(inline, 0.0, 1);
     // 0.30 (the scene's), then 0.25, 0.35, 0.20, 0.40 …
     store_then_pause(&mut worker, &mut events, 5);
     let mut solve = |target: f64| {
@@ -375,11 +450,13 @@ fn user_change_cancels_background(spawn: Spawn) {
     let mut params = Params::of(&problem, &settings);
     let g0 = worker.solve(params.clone());
     let mut events = Vec::new();
-    collect(&mut worker, &mut events, |e| {
-        matches!(e, Event::Background(Some(_)))
-    });
+    collect(
+        &mut worker,
+        &mut events,
+        |e| matches!(e, Event::Background(v) if !v.is_empty()),
+    );
     assert!(report(&events, g0).converged);
-    let Some(Event::Background(Some(value))) = events.last().cloned() else {
+    let Some(Event::Background(values)) = events.last().cloned() else {
         unreachable!("collect stops there")
     };
     // the user moves the slider to a value not stored: the background solve stops
@@ -393,8 +470,8 @@ fn user_change_cancels_background(spawn: Spawn) {
     );
     let stop = after
         .iter()
-        .position(|e| matches!(e, Event::Background(None)))
-        .expect("the background solve stopped");
+        .position(|e| matches!(e, Event::Background(v) if v.is_empty()))
+        .expect("the background solves stopped");
     let first_user = after
         .iter()
         .position(|e| matches!(e, Event::Progress { generation, .. } if *generation == g1))
@@ -406,8 +483,8 @@ fn user_change_cancels_background(spawn: Spawn) {
     assert!(
         !stored(&after)
             .iter()
-            .any(|c| (c.value - value).abs() < 1e-12),
-        "the cancelled background value {value} was not stored"
+            .any(|c| values.iter().any(|v| (c.value - v).abs() < 1e-12)),
+        "the cancelled background values {values:?} were not stored"
     );
     let r = report(&after, g1);
     assert!(r.converged && r.warm && !r.cancelled, "{r:?}");
@@ -423,7 +500,7 @@ fn the_difference_of_two_stored_pictures_matches_the_difference_of_two_solutions
     collect(
         &mut worker,
         &mut events,
-        |e| matches!(e, Event::Stored(c) if c.stored >= 4),
+        |e| matches!(e, Event::Stored(c) if (c.value - 0.2).abs() < 1e-9),
     );
     let all = stored(&events);
     let pick = |v: f64| {

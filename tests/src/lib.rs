@@ -312,12 +312,21 @@ pub fn solve_in_lanes(
             s
         })
         .collect();
+    march_in_lanes(&mut solvers, starts)
+}
+
+/// The solves of `solvers` (lanes of one solver) from `starts`, advanced one iteration at a time
+/// together ([`step_together`]) until each has ended.
+pub fn march_in_lanes(
+    solvers: &mut [Solver],
+    starts: &[Option<&lopin_core::state::InterfaceState>],
+) -> Vec<Solution> {
     let mut runs: Vec<_> = solvers
         .iter_mut()
         .zip(starts)
         .map(|(s, start)| s.begin(*start).expect("begin"))
         .collect();
-    let mut ended = vec![false; frictions.len()];
+    let mut ended = vec![false; solvers.len()];
     while ended.iter().any(|e| !e) {
         let mut lanes: Vec<Lane<'_>> = solvers
             .iter_mut()

@@ -4,19 +4,18 @@
 //! right-hand sides in one pass through each factor, reach what each reaches alone (bit for bit
 //! for a lone lane; the same iteration counts and the same interface fields to rounding for
 //! several, on one-step windows and over the whole interval with its skip cache, warm and
-//! cold); a lane on the two-scale stage marches on its own in the same iteration; a study in
+//! cold), on the two-scale stage as on the single-scale one, both in one batch; a study in
 //! batches gives each configuration the iterations (within one) and quantities (to 1e-5) of the
 //! same chains solved one at a time. The end energies a single-scale solve keeps
 //! (`core/src/solver/end_energy.rs`) are those of a replay, bit for bit.
 
 use lopin_core::post;
 use lopin_core::scene;
-use lopin_core::solver::batch::{step_together, Lane};
-use lopin_core::solver::{Control, Solution};
+use lopin_core::solver::Solution;
 use lopin_core::study::runner::{self, Outcome, RunOptions};
 use lopin_core::study::{Design, Spread, Target};
 use lopin_core::{Parameter, Settings, Solver};
-use lopin_tests::{solve_in_lanes, state_difference};
+use lopin_tests::{march_in_lanes, solve_in_lanes, state_difference};
 
 /// `two-blocks` with its settings at tolerance `tol` on windows of `window` steps (over the
 /// whole interval with the dissipative scheme ρ∞ = 0.5, which converges there in fewer
@@ -125,69 +124,69 @@ fn lanes_reach_what_each_configuration_reaches_alone() {
     }
 }
 
-/// A lane on the two-scale stage (METHOD §9) marches its own linear stage in the same iteration
-/// as the single-scale lanes beside it: each reaches its own solve's iterates.
+/// Lanes on the two-scale stage (METHOD §9) march together beside the single-scale lanes of the
+/// same batch: one lane alone is its own solve bit for bit; two two-scale lanes (f = 0.3 and
+/// 0.6) and two single-scale ones (f = 0.1 and 0.4) in one batch each reach their own solve's
+/// iterates to rounding, with the same iteration counts, cold and warm.
 #[test]
-fn a_two_scale_lane_marches_on_its_own_beside_the_batch() {
+fn two_scale_lanes_march_together_beside_the_single_scale_batch() {
     let (problem, settings) = opened(1e-6, Some(1));
-    let base = Solver::new(problem.clone(), settings).expect("solver");
-    let mut two = base.lane().expect("lane");
-    two.set_settings(Settings {
+    let two_scale = Settings {
         two_scale: true,
         ..settings
-    })
-    .expect("two-scale");
-    // the two-scale switch keeps the factorizations: the lane still shares them
-    assert!(two.shares_factors(&base));
-    let mut one = base.lane().expect("lane");
-    one.set_parameter(Parameter::Friction, 0.1)
-        .expect("friction");
-    let mut runs = [
-        two.begin(None).expect("begin"),
-        one.begin(None).expect("begin"),
-    ];
-    let mut ended = vec![false, false];
-    while ended.iter().any(|e| !e) {
-        let [r0, r1] = &mut runs;
-        let mut lanes = [
-            Lane {
-                solver: &mut two,
-                run: r0,
-            },
-            Lane {
-                solver: &mut one,
-                run: r1,
-            },
-        ];
-        ended = step_together(&mut lanes, &mut |_, _| Control::Continue);
-    }
-    let [r0, r1] = runs;
-    let (sol_two, sol_one) = (
-        two.conclude(r0).expect("two"),
-        one.conclude(r1).expect("one"),
-    );
-    let mut alone_two = Solver::new(
-        problem.clone(),
-        Settings {
-            two_scale: true,
-            ..settings
-        },
-    )
-    .expect("solver");
-    let ref_two = alone_two.solve(None).expect("solve");
-    assert_eq!(sol_two.iterations, ref_two.iterations);
-    assert_eq!(
-        sol_two.state, ref_two.state,
-        "the two-scale lane marched alone"
-    );
+    };
+    let base = Solver::new(problem.clone(), settings).expect("solver");
+    let lane = |f: f64, two: bool| {
+        let mut s = base.lane().expect("lane");
+        if two {
+            s.set_settings(two_scale).expect("two-scale");
+        }
+        s.set_parameter(Parameter::Friction, f).expect("friction");
+        // the two-scale switch keeps the factorizations: the lane still shares them
+        assert!(s.shares_factors(&base));
+        s
+    };
+    let by_itself = |f: f64, two: bool, start: Option<&lopin_core::state::InterfaceState>| {
+        let mut s =
+            Solver::new(problem.clone(), if two { two_scale } else { settings }).expect("solver");
+        s.set_parameter(Parameter::Friction, f).expect("friction");
+        s.solve(start).expect("solve")
+    };
+    // one two-scale lane alone: its solve bit for bit
+    let lone = march_in_lanes(&mut [lane(0.3, true)], &[None]);
+    let reference = by_itself(0.3, true, None);
+    assert_eq!(lone[0].iterations, reference.iterations);
+    assert_eq!(lone[0].state, reference.state, "a lone two-scale lane");
     // a two-scale solve keeps no end energies (its fields carry the macro correction)
-    assert!(sol_two.end.is_none());
-    let ref_one = alone(&problem, settings, &[0.1], &[None]);
-    assert_eq!(sol_one.iterations, ref_one[0].iterations);
-    assert_eq!(
-        sol_one.state, ref_one[0].state,
-        "the single-scale lane marched alone"
-    );
+    assert!(lone[0].end.is_none());
+
+    let cases = [(0.3, true), (0.1, false), (0.6, true), (0.4, false)];
+    let cold: Vec<Solution> = cases.iter().map(|&(f, t)| by_itself(f, t, None)).collect();
+    // cold, then warm from the converged state of the case after it
+    let warm_starts: Vec<_> = (0..cases.len())
+        .map(|c| Some(&cold[(c + 1) % cases.len()].state))
+        .collect();
+    for starts in [vec![None; cases.len()], warm_starts] {
+        let mut solvers: Vec<Solver> = cases.iter().map(|&(f, t)| lane(f, t)).collect();
+        let together = march_in_lanes(&mut solvers, &starts);
+        for ((sol, &(f, two)), start) in together.iter().zip(&cases).zip(&starts) {
+            let alone = by_itself(f, two, *start);
+            assert!(sol.converged && alone.converged);
+            assert_eq!(
+                sol.iterations,
+                alone.iterations,
+                "f = {f}, two-scale {two}, warm {}",
+                start.is_some()
+            );
+            let d = state_difference(sol, &alone);
+            eprintln!(
+                "f = {f}, two-scale {two}, warm {}: {} iterations, lanes against alone {d:.1e}",
+                start.is_some(),
+                sol.iterations
+            );
+            assert!(d < 1e-10, "f = {f}, two-scale {two}: lanes differ by {d:e}");
+        }
+    }
 }
 
 /// A study of `design` cut into `chains`, solved `batch` at a time.

@@ -1,6 +1,7 @@
 //! `lopin bench`: setup time, time per iteration and the time of the triangular solves alone
 //! on `two-blocks` at refine 1 and 2, so the overhead ratio (iteration / triangular solves) is
-//! visible; with `--batch`, the study table of [`super::bench_batch`]; with `--accuracy`, the
+//! visible; with `--batch`, the study table of [`super::bench_batch`]; with `--background`, the
+//! explorer's background study in lanes ([`super::bench_background`]); with `--accuracy`, the
 //! time-to-accuracy table of [`super::bench_accuracy`]. Ratios are measured within one run; the table (comfy-table) is printed at the end.
 
 use std::process::ExitCode;
@@ -37,13 +38,18 @@ pub struct BenchArgs {
     /// 0:20e-6:2e-6, 121 configurations).
     #[arg(long, value_delimiter = ',', default_value = "sweep,grid")]
     studies: Vec<String>,
-    /// Also write the --batch or --accuracy table's rows as JSON to this file.
+    /// Instead of the iteration table: the explorer's background study (the friction grid
+    /// around the scene's value) solved this many values at a time on lanes that share the
+    /// factorizations, against one at a time (e.g. 1,4).
+    #[arg(long, value_delimiter = ',', conflicts_with = "batch")]
+    background: Vec<usize>,
+    /// Also write the --batch, --background or --accuracy table's rows as JSON to this file.
     #[arg(long)]
     json: Option<std::path::PathBuf>,
     /// Instead of the iteration table: the time to a velocity error of 1e-3 and 1e-6 of each
     /// case (two-blocks, two-blocks-ramp, two-blocks --refine 2, granular-small, granular-poly)
     /// under the default settings, the whole interval and the whole interval at ρ∞ = 0.5.
-    #[arg(long, conflicts_with = "batch")]
+    #[arg(long, conflicts_with_all = ["batch", "background"])]
     accuracy: bool,
     /// With --accuracy: only the cases of these scenes.
     #[arg(long, value_delimiter = ',')]
@@ -53,6 +59,15 @@ pub struct BenchArgs {
 pub fn bench(args: &BenchArgs) -> anyhow::Result<ExitCode> {
     if args.accuracy {
         super::bench_accuracy::bench_accuracy(&args.cases, args.json.as_deref())?;
+        return Ok(ExitCode::SUCCESS);
+    }
+    if !args.background.is_empty() {
+        super::bench_background::bench_background(
+            &args.scene,
+            &args.refine,
+            &args.background,
+            args.json.as_deref(),
+        )?;
         return Ok(ExitCode::SUCCESS);
     }
     if !args.batch.is_empty() {

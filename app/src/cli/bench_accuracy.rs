@@ -133,15 +133,7 @@ fn velocity_error(v: &[Vec<Vec<f64>>], reference: &[Vec<Vec<f64>>]) -> f64 {
 
 /// The solver of `scene` at `refine` under the settings layer `spec`, for one cold solve.
 fn solver_of(scene: &str, refine: usize, spec: SolverSpec) -> anyhow::Result<Solver> {
-    let built = build(&SceneArgs {
-        scene: scene.to_string(),
-        friction: None,
-        set: Vec::new(),
-        solver: spec,
-        refine,
-        split: 1,
-        task: Task::Single,
-    })?;
+    let built = build(&SceneArgs::refined(scene, refine, spec, Task::Single))?;
     Ok(Solver::new(built.problem, built.settings)?)
 }
 

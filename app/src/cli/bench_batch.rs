@@ -77,15 +77,12 @@ pub fn bench_batches(
     ]);
     let mut rows = Vec::new();
     for &refine in refines {
-        let built = build(&SceneArgs {
-            scene: scene.to_string(),
-            friction: None,
-            set: Vec::new(),
-            solver: Default::default(),
+        let built = build(&SceneArgs::refined(
+            scene,
             refine,
-            split: 1,
-            task: Task::Study,
-        })?;
+            Default::default(),
+            Task::Study,
+        ))?;
         let (problem, settings) = (built.problem, built.settings);
         for (name, f, gap) in STUDIES
             .iter()

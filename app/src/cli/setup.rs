@@ -46,6 +46,20 @@ pub struct SceneArgs {
 }
 
 impl SceneArgs {
+    /// A built-in or file scene at `refine` for `task`, under the settings layer `solver` and
+    /// nothing else (what the benchmarks open).
+    pub fn refined(scene: &str, refine: usize, solver: SolverSpec, task: Task) -> Self {
+        SceneArgs {
+            scene: scene.to_string(),
+            friction: None,
+            set: Vec::new(),
+            solver,
+            refine,
+            split: 1,
+            task,
+        }
+    }
+
     /// These options as the front door reads them ([`scene::Overrides`]); `--f` is checked
     /// here so that its error names it.
     pub fn overrides(&self) -> anyhow::Result<Overrides> {

@@ -11,14 +11,15 @@
 //! leaves the batch; another configuration may take its place at once (lanes need not be at
 //! the same window or iteration).
 //!
-//! Each lane reaches the iterates it would reach alone up to the rounding of the blocked solve
-//! (bit for bit when it marches alone). Lanes on the two-scale stage (METHOD §9), or whose
-//! factorizations are no longer shared (one changed its k or scheme), march each on its own in
-//! the same iteration.
+//! Lanes on the two-scale stage (METHOD §9) march together likewise, each solving its own macro
+//! problem between the shared micro solves of a step; single-scale and two-scale lanes of one
+//! batch form two groups. Each lane reaches the iterates it would reach alone up to the rounding
+//! of the blocked solve (bit for bit when it marches alone). Lanes whose factorizations are no
+//! longer shared (one changed its k or scheme) march each on its own in the same iteration.
 
 use std::sync::Arc;
 
-use super::linear::{BatchInput, LinearOutcome, Operators, SingleScale};
+use super::linear::{BatchInput, LinearOutcome, Operators};
 use super::{new_linear_stage, Control, Iterate, LinearStage, SolveRun, Solver};
 use crate::counters::{Counters, Instant};
 use crate::error::{LopinError, Result};
@@ -86,29 +87,30 @@ pub fn step_together(
         .map(|l| l.solver.iteration_local(l.run))
         .collect();
     let t_linear = Instant::now();
-    // the lanes that march together: single-scale, on the factors of the first of them
-    let mut together = vec![false; lanes.len()];
-    let mut first: Option<usize> = None;
-    for (l, lane) in lanes.iter().enumerate() {
-        if begun[l].is_none() || !matches!(lane.solver.linear, LinearStage::SingleScale(_)) {
+    // the lanes that march together: those of the first lane's variant of the linear stage on
+    // its factorizations, and likewise for the first lane of the other variant
+    let mut group: Vec<Option<usize>> = vec![None; lanes.len()];
+    for l in 0..lanes.len() {
+        if begun[l].is_none() {
             continue;
         }
-        match first {
-            None => {
-                first = Some(l);
-                together[l] = true;
-            }
-            Some(f) => together[l] = lanes[f].solver.shares_factors(lane.solver),
-        }
+        let linear = &lanes[l].solver.linear;
+        let leader =
+            (0..l).find(|&f| group[f] == Some(f) && lanes[f].solver.linear.same_variant(linear));
+        group[l] = match leader {
+            None => Some(l),
+            Some(f) => lanes[f].solver.shares_factors(lanes[l].solver).then_some(f),
+        };
     }
     let mut outcomes: Vec<Option<LinearOutcome>> = vec![None; lanes.len()];
-    {
-        let mut stages: Vec<&mut SingleScale> = Vec::new();
+    let leaders: Vec<usize> = (0..lanes.len()).filter(|&l| group[l] == Some(l)).collect();
+    for leader in leaders {
+        let mut stages: Vec<&mut LinearStage> = Vec::new();
         let mut inputs: Vec<BatchInput<'_>> = Vec::new();
         let mut outs: Vec<&mut [TraceHistory]> = Vec::new();
         let mut runs = Vec::new();
         for (l, lane) in lanes.iter_mut().enumerate() {
-            if !together[l] {
+            if group[l] != Some(leader) {
                 continue;
             }
             let Solver {
@@ -127,15 +129,12 @@ pub fn step_together(
                 distribution,
             };
             let (input, out) = lane.run.batch_parts(problem, ops, settings);
-            let Some(stage) = linear.single_scale_mut() else {
-                continue;
-            };
-            stages.push(stage);
+            stages.push(linear);
             inputs.push(input);
             outs.push(out);
             runs.push(l);
         }
-        let results = SingleScale::run_batched(&mut stages, &inputs, &mut outs);
+        let results = LinearStage::run_batched(stages, &inputs, &mut outs);
         for (&l, outcome) in runs.iter().zip(results) {
             outcomes[l] = Some(outcome);
         }

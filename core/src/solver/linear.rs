@@ -94,13 +94,36 @@ impl LinearStage {
         }
     }
 
-    /// The single-scale variant, which can march with other configurations
-    /// ([`SingleScale::run_batched`]).
-    pub fn single_scale_mut(&mut self) -> Option<&mut SingleScale> {
-        match self {
-            Self::SingleScale(s) => Some(s),
-            Self::TwoScale(_) => None,
+    /// The linear stages of several configurations of one problem that share their operators
+    /// S, all of one variant, marched together ([`SingleScale::run_batched`],
+    /// [`TwoScale::run_batched`]). Returns each configuration's outcome.
+    pub fn run_batched(
+        stages: Vec<&mut LinearStage>,
+        inputs: &[BatchInput<'_>],
+        outs: &mut [&mut [TraceHistory]],
+    ) -> Vec<LinearOutcome> {
+        let mut singles = Vec::with_capacity(stages.len());
+        let mut twos = Vec::with_capacity(stages.len());
+        for stage in stages {
+            match stage {
+                Self::SingleScale(s) => singles.push(s),
+                Self::TwoScale(t) => twos.push(&mut **t),
+            }
         }
+        assert!(
+            singles.is_empty() || twos.is_empty(),
+            "configurations marched together use one variant of the linear stage"
+        );
+        if twos.is_empty() {
+            SingleScale::run_batched(&mut singles, inputs, outs)
+        } else {
+            TwoScale::run_batched(&mut twos, inputs, outs)
+        }
+    }
+
+    /// Whether `other` is the same variant.
+    pub fn same_variant(&self, other: &LinearStage) -> bool {
+        std::mem::discriminant(self) == std::mem::discriminant(other)
     }
 
     /// The state of every substructure at the last step of the last run.

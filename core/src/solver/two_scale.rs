@@ -12,18 +12,22 @@
 //! variant is made; a window allocates only its η sums. In a distributed run each rank marches
 //! its substructures; b is summed over the ranks (each macro dof has the two sides of its
 //! interface as its only contributions, so the sum is exact), and every rank solves the same
-//! replicated macro problem.
+//! replicated macro problem. Several configurations of one problem march together
+//! ([`TwoScale::run_batched`]): at every step the micro solves of all of them go through each
+//! substructure's factor in one pass, then each solves its own macro problem and corrects.
 
-use super::linear::{LinearOutcome, Operators};
+use super::linear::{BatchInput, LinearOutcome, Operators};
 use crate::counters::Instant;
-use crate::linalg::factor::SolveScratch;
+use crate::linalg::factor::{CholeskyFactor, SolveScratch};
 use crate::macro_scale::macro_problem::MacroProblem;
 use crate::par;
 use crate::stages::indicator::IndicatorSums;
 use crate::stages::linear_stage::{
-    complete, predict, trial_force, Correction, LinearInput, LinearWork, SubState,
+    add_guess, complete, form_rhs, predict, trial_force, Correction, LinearInput, LinearWork,
+    SubState,
 };
 use crate::state::TraceHistory;
+use crate::substructure::Substructure;
 
 /// One substructure's buffers in the two-scale stage.
 #[derive(Debug)]
@@ -35,6 +39,40 @@ struct TwoScaleSub {
     macro_local: Vec<f64>,
     /// η sums of the current step.
     sums: IndicatorSums,
+}
+
+impl TwoScaleSub {
+    /// Step 1 after the micro solve: F¹ on the trace and its macro forces Êᵀ A F¹.
+    fn macro_forces(&mut self, sub: &Substructure, mp: &MacroProblem, i: usize, k: f64) {
+        trial_force(sub, &self.work, k, &mut self.trace);
+        self.macro_local.iter_mut().for_each(|x| *x = 0.0);
+        mp.project(i, &sub.trace_area, &self.trace, &mut self.macro_local);
+    }
+
+    /// Step 4 from the macro solution `alpha` (global macro dofs): v_m, W_m, F_m and the state
+    /// of step `m` into `out`, the step's η sums kept.
+    #[allow(clippy::too_many_arguments)]
+    fn correct(
+        &mut self,
+        sub: &Substructure,
+        mp: &MacroProblem,
+        i: usize,
+        alpha: &[f64],
+        lin: &LinearInput<'_>,
+        m: usize,
+        out: &mut TraceHistory,
+    ) {
+        for (a, &g) in self.macro_local.iter_mut().zip(&mp.global[i]) {
+            *a = alpha[g];
+        }
+        mp.expand(i, &self.macro_local, &mut self.trace);
+        let correction = Correction {
+            z: &mp.homogenized_of(i).z,
+            alpha: &self.macro_local,
+            macro_trace: &self.trace,
+        };
+        self.sums = complete(sub, &mut self.work, lin, m, out, Some(correction));
+    }
 }
 
 /// The two-scale linear stage (METHOD §9) with its macro problem.
@@ -123,9 +161,7 @@ impl TwoScale {
                 }
                 let sub = &ops.subs[i];
                 predict(sub, ops.factor(i), &mut buf.work, lin, m);
-                trial_force(sub, &buf.work, lin.k, &mut buf.trace);
-                buf.macro_local.iter_mut().for_each(|x| *x = 0.0);
-                mp.project(i, &sub.trace_area, &buf.trace, &mut buf.macro_local);
+                buf.macro_forces(sub, mp, i, lin.k);
             });
             // 2.–3. macro right-hand side and solve
             let t = Instant::now();
@@ -144,20 +180,9 @@ impl TwoScale {
             // 4. correction
             let (mp, alpha) = (&*mp, &*b);
             par::for_each_zip_mut(subs, out, |i, buf, out| {
-                if !dist.holds_sub(i) {
-                    return;
+                if dist.holds_sub(i) {
+                    buf.correct(&ops.subs[i], mp, i, alpha, lin, m, out);
                 }
-                let sub = &ops.subs[i];
-                for (a, &g) in buf.macro_local.iter_mut().zip(&mp.global[i]) {
-                    *a = alpha[g];
-                }
-                mp.expand(i, &buf.macro_local, &mut buf.trace);
-                let correction = Correction {
-                    z: &mp.homogenized_of(i).z,
-                    alpha: &buf.macro_local,
-                    macro_trace: &buf.trace,
-                };
-                buf.sums = complete(sub, &mut buf.work, lin, m, out, Some(correction));
             });
             step_sums.extend(
                 subs.iter()
@@ -167,5 +192,141 @@ impl TwoScale {
         }
         outcome.sums = dist.gathered_sums(step_sums.into_iter());
         outcome
+    }
+}
+
+/// One substructure of every configuration of a batch ([`TwoScale::run_batched`]): its buffers
+/// and s_new per configuration, and the block of right-hand sides solved in one pass.
+struct SubBatch<'a> {
+    members: Vec<(&'a mut TwoScaleSub, &'a mut TraceHistory)>,
+    block: Vec<f64>,
+    scratch: Option<SolveScratch>,
+}
+
+impl TwoScale {
+    /// The two-scale linear stages of several configurations of one problem whose operators S
+    /// are the same (they differ only in interface parameters, initial states and loads): at
+    /// every step, the micro solves of every configuration marching that step go through each
+    /// substructure's factor in one pass (step 1), then each configuration solves its own macro
+    /// problem (steps 2–3) and corrects (step 4). Configurations with windows of different
+    /// lengths march while they have steps. Every configuration must be on one machine.
+    /// Returns each configuration's outcome, as [`Self::run`] would (bit for bit for a lone
+    /// configuration: a block of one column is the single solve).
+    pub fn run_batched(
+        stages: &mut [&mut TwoScale],
+        inputs: &[BatchInput<'_>],
+        outs: &mut [&mut [TraceHistory]],
+    ) -> Vec<LinearOutcome> {
+        let lanes = stages.len();
+        let subs = inputs.first().map_or(0, |b| b.ops.subs.len());
+        let mut by_sub: Vec<SubBatch<'_>> = (0..subs)
+            .map(|_| SubBatch {
+                members: Vec::with_capacity(lanes),
+                block: Vec::new(),
+                scratch: None,
+            })
+            .collect();
+        let mut mps: Vec<&MacroProblem> = Vec::with_capacity(lanes);
+        let mut rhs: Vec<(&mut Vec<f64>, &mut SolveScratch)> = Vec::with_capacity(lanes);
+        for (c, (stage, out)) in stages.iter_mut().zip(outs.iter_mut()).enumerate() {
+            let TwoScale {
+                macro_problem,
+                subs: bufs,
+                macro_rhs,
+                scratch,
+            } = &mut **stage;
+            for (i, (buf, o)) in bufs.iter_mut().zip(out.iter_mut()).enumerate() {
+                buf.work.state.clone_from(&inputs[c].starts[i]);
+                by_sub[i].members.push((buf, o));
+            }
+            mps.push(macro_problem);
+            rhs.push((macro_rhs, scratch));
+        }
+        let length = |c: usize| inputs[c].lin.steps.1 + 1 - inputs[c].lin.steps.0;
+        let longest = (0..lanes).map(length).max().unwrap_or(0);
+        let mut outcomes = vec![LinearOutcome::default(); lanes];
+        let mut step_sums: Vec<Vec<Option<IndicatorSums>>> = (0..lanes)
+            .map(|c| Vec::with_capacity(length(c) * subs))
+            .collect();
+        for step in 0..longest {
+            let marching: Vec<usize> = (0..lanes).filter(|&c| step < length(c)).collect();
+            let Some(&first) = marching.first() else {
+                break;
+            };
+            // 1. the micro solves of every configuration in one pass through each factor, and
+            // their macro forces
+            par::for_each_mut(&mut by_sub, |i, batch| {
+                let factor = inputs[first].ops.factor(i);
+                predict_together(i, factor, batch, &marching, inputs, step);
+                for &c in &marching {
+                    let input = &inputs[c];
+                    let sub = &input.ops.subs[i];
+                    batch.members[c].0.macro_forces(sub, mps[c], i, input.lin.k);
+                }
+            });
+            // 2.–3. each configuration's macro right-hand side and solve
+            for &c in &marching {
+                let t = Instant::now();
+                let (b, scratch) = &mut rhs[c];
+                b.iter_mut().for_each(|x| *x = -0.0);
+                for (batch, global) in by_sub.iter().zip(&mps[c].global) {
+                    for (&g, &r) in global.iter().zip(&batch.members[c].0.macro_local) {
+                        b[g] -= r;
+                    }
+                }
+                mps[c].solve_in_place(b, scratch);
+                outcomes[c].macro_s += t.elapsed().as_secs_f64();
+            }
+            // 4. corrections
+            let alphas: Vec<&[f64]> = rhs.iter().map(|(b, _)| &b[..]).collect();
+            par::for_each_mut(&mut by_sub, |i, batch| {
+                for &c in &marching {
+                    let input = &inputs[c];
+                    let (buf, out) = &mut batch.members[c];
+                    let m = input.lin.steps.0 + step;
+                    buf.correct(&input.ops.subs[i], mps[c], i, alphas[c], &input.lin, m, out);
+                }
+            });
+            for &c in &marching {
+                step_sums[c].extend(by_sub.iter().map(|b| Some(b.members[c].0.sums)));
+            }
+        }
+        for (c, sums) in step_sums.into_iter().enumerate() {
+            outcomes[c].sums = inputs[c].ops.distribution.gathered_sums(sums.into_iter());
+        }
+        outcomes
+    }
+}
+
+/// Step 1's micro solves of substructure `i` for the configurations `marching` at step `step`
+/// of their windows: their right-hand sides solved in one pass through `factor`.
+fn predict_together(
+    i: usize,
+    factor: &CholeskyFactor,
+    batch: &mut SubBatch<'_>,
+    marching: &[usize],
+    inputs: &[BatchInput<'_>],
+    step: usize,
+) {
+    let n = factor.n();
+    for &c in marching {
+        let input = &inputs[c];
+        let sub: &Substructure = &input.ops.subs[i];
+        let work = &mut batch.members[c].0.work;
+        form_rhs(sub, work, &input.lin, input.lin.steps.0 + step);
+    }
+    batch.block.resize(n * marching.len(), 0.0);
+    for (col, &c) in marching.iter().enumerate() {
+        batch.block[col * n..(col + 1) * n].copy_from_slice(batch.members[c].0.work.rhs_mut());
+    }
+    let scratch = batch
+        .scratch
+        .get_or_insert_with(|| factor.scratch_for(inputs.len()));
+    factor.solve_columns_in_place(&mut batch.block, marching.len(), scratch);
+    for (col, &c) in marching.iter().enumerate() {
+        let work = &mut batch.members[c].0.work;
+        work.rhs_mut()
+            .copy_from_slice(&batch.block[col * n..(col + 1) * n]);
+        add_guess(work);
     }
 }
