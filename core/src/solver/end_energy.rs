@@ -2,9 +2,11 @@
 //! stages left (METHOD §2, §4): the kinetic energy ½ vᵀ M v and strain energy ½ uᵀ K u of each
 //! substructure's end state, and the work of the boundary interfaces
 //! Σ_m Σ_j A_j (γ F_m + (1 − γ) F_{m−1}) Δt/2 (W_m + W_{m−1}) from the linear stage's trace
-//! fields. Each window's last linear stage marched exactly what a replay driven by the converged
-//! ŝ marches ([`crate::post::replay`]), so these are the end values of [`crate::post::energy`]
-//! (same sums in the same order) without marching the interval again. Trapezoidal rule only:
+//! fields. Each window's last linear stage marched what a replay driven by the converged ŝ
+//! marches ([`crate::post::replay`]), so these are the end values of [`crate::post::energy`]
+//! (same sums in the same order; bit for bit where each substructure marched alone, to the
+//! rounding of the blocked solves where substructures sharing a factorization marched together,
+//! [`super::blocks`]) without marching the interval again. Trapezoidal rule only:
 //! the dissipative scheme's work needs the trace displacements of every step, which only a
 //! replay gives.
 

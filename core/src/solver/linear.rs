@@ -17,11 +17,8 @@ use crate::distributed::distribution::Distribution;
 use crate::linalg::factor::CholeskyFactor;
 use crate::macro_scale::macro_problem::MacroProblem;
 use crate::macro_scale::operator_classes::Classes;
-use crate::par;
 use crate::stages::indicator::IndicatorSums;
-use crate::stages::linear_stage::{
-    add_guess, complete, form_rhs, linear_stage, LinearInput, LinearWork, SubState,
-};
+use crate::stages::linear_stage::{LinearInput, LinearWork, SubState};
 use crate::state::TraceHistory;
 use crate::substructure::Substructure;
 
@@ -156,19 +153,20 @@ impl LinearStage {
 
 /// One substructure's buffers in the single-scale stage.
 #[derive(Debug)]
-struct SingleScaleSub {
-    work: LinearWork,
-    skip: SkipCache,
+pub(super) struct SingleScaleSub {
+    pub work: LinearWork,
+    pub skip: SkipCache,
     /// η sums of its last march (or replay).
-    sums: IndicatorSums,
+    pub sums: IndicatorSums,
     /// Whether its last march was skipped.
-    skipped: bool,
+    pub skipped: bool,
 }
 
-/// The single-scale linear stage (METHOD §4): every substructure independent, in parallel.
+/// The single-scale linear stage (METHOD §4): every substructure independent, in parallel, those
+/// that share a factorization marching in blocks ([`super::blocks`]).
 #[derive(Debug)]
 pub(crate) struct SingleScale {
-    subs: Vec<SingleScaleSub>,
+    pub(super) subs: Vec<SingleScaleSub>,
 }
 
 impl SingleScale {
@@ -195,27 +193,13 @@ impl SingleScale {
         whole: bool,
         out: &mut [TraceHistory],
     ) -> LinearOutcome {
-        par::for_each_zip_mut(&mut self.subs, out, |i, b, out| {
-            if !ops.distribution.holds_sub(i) {
-                return;
-            }
-            let sub = &ops.subs[i];
-            if whole {
-                if let Some(sums) = b.skip.replay(sub, lin.hats, &mut b.work, out) {
-                    b.sums = sums;
-                    b.skipped = true;
-                    return;
-                }
-            }
-            b.work.state.clone_from(&starts[i]);
-            b.sums = linear_stage(sub, ops.factor(i), &mut b.work, lin, out, None);
-            b.skipped = false;
-            if whole {
-                b.skip.store(sub, lin.hats, &b.work, out, b.sums);
-            } else {
-                b.skip.clear();
-            }
-        });
+        let input = BatchInput {
+            ops,
+            starts,
+            lin: *lin,
+            whole,
+        };
+        super::blocks::march_all(&mut [self], &[input], &mut [out]);
         self.outcome(ops)
     }
 
@@ -257,115 +241,23 @@ pub(crate) struct BatchInput<'a> {
 
 impl SingleScale {
     /// The linear stages of several configurations of one problem whose operators S are the same
-    /// (they differ only in interface parameters, initial states and loads): every substructure
-    /// marches all of them step by step, the right-hand sides of one step solved in one pass
-    /// through the shared factor (METHOD §4, §11: the solve reads the factor once for all
-    /// columns). Configurations with windows of different lengths march while they have steps;
-    /// a substructure a configuration's skip cache replays takes no column. Every configuration
-    /// must be on one machine. Returns each configuration's outcome, as [`Self::run`] would.
+    /// (they differ only in interface parameters, initial states and loads): the substructures
+    /// of all of them march step by step in the blocks of [`super::blocks`], the right-hand
+    /// sides of one step solved in one pass through the shared factor (METHOD §4, §11: the
+    /// solve reads the factor once for all columns). Configurations with windows of different
+    /// lengths march while they have steps; a substructure a configuration's skip cache replays
+    /// takes no column. Every configuration must be on one machine. Returns each
+    /// configuration's outcome, as [`Self::run`] would.
     pub fn run_batched(
         stages: &mut [&mut SingleScale],
         inputs: &[BatchInput<'_>],
         outs: &mut [&mut [TraceHistory]],
     ) -> Vec<LinearOutcome> {
-        let subs = inputs.first().map_or(0, |b| b.ops.subs.len());
-        let mut by_sub: Vec<Vec<(usize, &mut SingleScaleSub, &mut TraceHistory)>> = (0..subs)
-            .map(|_| Vec::with_capacity(inputs.len()))
-            .collect();
-        for (c, (stage, out)) in stages.iter_mut().zip(outs.iter_mut()).enumerate() {
-            for (i, (b, o)) in stage.subs.iter_mut().zip(out.iter_mut()).enumerate() {
-                by_sub[i].push((c, b, o));
-            }
-        }
-        par::for_each_mut(&mut by_sub, |i, members| {
-            march_together(i, members, inputs);
-        });
+        super::blocks::march_all(stages, inputs, outs);
         stages
             .iter()
             .zip(inputs)
             .map(|(stage, input)| stage.outcome(input.ops))
             .collect()
-    }
-}
-
-/// Substructure `i` of every configuration of a batch over its window (see
-/// [`SingleScale::run_batched`]).
-fn march_together(
-    i: usize,
-    members: &mut [(usize, &mut SingleScaleSub, &mut TraceHistory)],
-    inputs: &[BatchInput<'_>],
-) {
-    let Some(first) = members.first() else {
-        return;
-    };
-    let factor = inputs[first.0].ops.factor(i);
-    let mut marching = Vec::with_capacity(members.len());
-    for (j, (c, b, out)) in members.iter_mut().enumerate() {
-        let input = &inputs[*c];
-        let sub = &input.ops.subs[i];
-        if input.whole {
-            if let Some(sums) = b.skip.replay(sub, input.lin.hats, &mut b.work, out) {
-                b.sums = sums;
-                b.skipped = true;
-                continue;
-            }
-        }
-        b.work.state.clone_from(&input.starts[i]);
-        b.sums = IndicatorSums::default();
-        b.skipped = false;
-        marching.push(j);
-    }
-    let length = |c: usize| inputs[c].lin.steps.1 + 1 - inputs[c].lin.steps.0;
-    let longest = marching
-        .iter()
-        .map(|&j| length(members[j].0))
-        .max()
-        .unwrap_or(0);
-    let n = factor.n();
-    let mut block = Vec::new();
-    let mut scratch = None;
-    let mut now = Vec::with_capacity(marching.len());
-    for step in 0..longest {
-        now.clear();
-        now.extend(
-            marching
-                .iter()
-                .copied()
-                .filter(|&j| step < length(members[j].0)),
-        );
-        for &j in &now {
-            let (c, b, _) = &mut members[j];
-            let input = &inputs[*c];
-            let m = input.lin.steps.0 + step;
-            form_rhs(&input.ops.subs[i], &mut b.work, &input.lin, m);
-        }
-        // one pass through the factor for every configuration marching this step
-        block.resize(n * now.len(), 0.0);
-        for (col, &j) in now.iter().enumerate() {
-            block[col * n..(col + 1) * n].copy_from_slice(members[j].1.work.rhs_mut());
-        }
-        let scratch = scratch.get_or_insert_with(|| factor.scratch_for(marching.len()));
-        factor.solve_columns_in_place(&mut block, now.len(), scratch);
-        for (col, &j) in now.iter().enumerate() {
-            let (c, b, out) = &mut members[j];
-            b.work
-                .rhs_mut()
-                .copy_from_slice(&block[col * n..(col + 1) * n]);
-            add_guess(&mut b.work);
-            let input = &inputs[*c];
-            let m = input.lin.steps.0 + step;
-            let sums = complete(&input.ops.subs[i], &mut b.work, &input.lin, m, out, None);
-            b.sums.add(sums);
-        }
-    }
-    for &j in &marching {
-        let (c, b, out) = &mut members[j];
-        let input = &inputs[*c];
-        if input.whole {
-            b.skip
-                .store(&input.ops.subs[i], input.lin.hats, &b.work, out, b.sums);
-        } else {
-            b.skip.clear();
-        }
     }
 }

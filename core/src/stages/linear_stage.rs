@@ -186,6 +186,7 @@ impl LinearWork {
 }
 
 /// What the linear stage needs besides the substructure.
+#[derive(Clone, Copy)]
 pub struct LinearInput<'a> {
     /// All interfaces (for side offsets).
     pub interfaces: &'a [Interface],

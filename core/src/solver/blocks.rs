@@ -1,0 +1,201 @@
+//! Blocks of the single-scale linear stage (METHOD §4, §11): which substructures march together
+//! through one factor, and their march. The triangular solves of S are bound by reading the
+//! factor from memory, so the right-hand sides of several substructures that share one
+//! factorization (identical cells of a granular material, or one substructure of several
+//! configurations of a batch) cost far less solved in one pass than one at a time.
+//!
+//! On windows shorter than the whole interval every substructure marches: the members of one
+//! class of operators (over every configuration of a batch) are cut into blocks of a width that
+//! depends only on the class's size over the whole problem ([`block_width`]), and every step of
+//! a block solves exactly that many columns, zero columns padding a block with fewer members.
+//! A column's solution depends on the width of its block only (not on its place or its
+//! neighbours), so a run distributed over ranks, each holding part of a class, gives the answer
+//! of the threaded run bit for bit. Over the whole interval the skip cache replays the
+//! substructures whose inputs did not change, which no rank can know of another's: there each
+//! substructure marches alone, with the same substructure of the batch's other configurations.
+
+use super::linear::{BatchInput, SingleScaleSub};
+use crate::linalg::factor::SolveScratch;
+use crate::par;
+use crate::stages::indicator::IndicatorSums;
+use crate::stages::linear_stage::{add_guess, complete, form_rhs, predict};
+use crate::state::TraceHistory;
+
+/// The widest block: past it a column costs little less and the blocks get too few to share
+/// the cores.
+const MAX_WIDTH: usize = 16;
+
+/// One substructure of one configuration in a block: the configuration, the substructure, its
+/// buffers and its s_new.
+pub(super) type Member<'a> = (usize, usize, &'a mut SingleScaleSub, &'a mut TraceHistory);
+
+/// The width of the blocks of a class of `members` substructure marches (over the whole
+/// problem): as even as possible, at most [`MAX_WIDTH`].
+pub(super) fn block_width(members: usize) -> usize {
+    let blocks = members.div_ceil(MAX_WIDTH).max(1);
+    members.div_ceil(blocks).max(1)
+}
+
+/// Marches every substructure of every configuration of `stages` (with `inputs`, writing
+/// `outs`) over its window in the blocks of the module doc, in parallel.
+pub(super) fn march_all(
+    stages: &mut [&mut super::linear::SingleScale],
+    inputs: &[BatchInput<'_>],
+    outs: &mut [&mut [TraceHistory]],
+) {
+    let Some(first) = inputs.first() else {
+        return;
+    };
+    let (subs, classes) = (first.ops.subs.len(), first.ops.classes);
+    let windowed = inputs.iter().filter(|b| !b.whole).count();
+    let mut size = vec![0usize; classes.count()];
+    for &c in &classes.of {
+        size[c] += 1;
+    }
+    let mut by_sub: Vec<Vec<Member<'_>>> = (0..subs).map(|_| Vec::new()).collect();
+    let mut by_class: Vec<Vec<Member<'_>>> = (0..classes.count()).map(|_| Vec::new()).collect();
+    for (c, (stage, out)) in stages.iter_mut().zip(outs.iter_mut()).enumerate() {
+        let input = &inputs[c];
+        for (i, (b, o)) in stage.subs.iter_mut().zip(out.iter_mut()).enumerate() {
+            if !input.ops.distribution.holds_sub(i) {
+                continue;
+            }
+            if input.whole {
+                by_sub[i].push((c, i, b, o));
+            } else {
+                by_class[classes.of[i]].push((c, i, b, o));
+            }
+        }
+    }
+    let mut blocks: Vec<(Option<usize>, Vec<Member<'_>>)> = by_sub
+        .into_iter()
+        .filter(|m| !m.is_empty())
+        .map(|m| (None, m))
+        .collect();
+    for (class, members) in by_class.into_iter().enumerate() {
+        let width = block_width(size[class] * windowed);
+        let mut members = members.into_iter().peekable();
+        while members.peek().is_some() {
+            blocks.push((Some(width), members.by_ref().take(width).collect()));
+        }
+    }
+    par::for_each_mut(&mut blocks, |_, (width, members)| {
+        march_block(members, *width, inputs)
+    });
+}
+
+/// The members of one block over their windows, step by step: their right-hand sides of a step
+/// solved in one pass through their shared factor, `width` columns (None: as many as march that
+/// step). Members whose skip cache replays them take no column.
+fn march_block(members: &mut [Member<'_>], width: Option<usize>, inputs: &[BatchInput<'_>]) {
+    let Some(&(c0, i0, _, _)) = members.first() else {
+        return;
+    };
+    let factor = inputs[c0].ops.factor(i0);
+    let mut marching = Vec::with_capacity(members.len());
+    for (j, (c, i, b, out)) in members.iter_mut().enumerate() {
+        let input = &inputs[*c];
+        let sub = &input.ops.subs[*i];
+        if input.whole {
+            if let Some(sums) = b.skip.replay(sub, input.lin.hats, &mut b.work, out) {
+                b.sums = sums;
+                b.skipped = true;
+                continue;
+            }
+        }
+        b.work.state.clone_from(&input.starts[*i]);
+        b.sums = IndicatorSums::default();
+        b.skipped = false;
+        marching.push(j);
+    }
+    let length = |c: usize| inputs[c].lin.steps.1 + 1 - inputs[c].lin.steps.0;
+    let longest = marching
+        .iter()
+        .map(|&j| length(members[j].0))
+        .max()
+        .unwrap_or(0);
+    let n = factor.n();
+    let mut block = Vec::new();
+    let mut scratch: Option<SolveScratch> = None;
+    let mut now = Vec::with_capacity(marching.len());
+    for step in 0..longest {
+        now.clear();
+        now.extend(
+            marching
+                .iter()
+                .copied()
+                .filter(|&j| step < length(members[j].0)),
+        );
+        let columns = width.unwrap_or(now.len()).max(now.len());
+        if columns == 1 {
+            // one column: the member's own solve, in place
+            let (c, i, b, out) = &mut members[now[0]];
+            let input = &inputs[*c];
+            let (sub, m) = (&input.ops.subs[*i], input.lin.steps.0 + step);
+            predict(sub, factor, &mut b.work, &input.lin, m);
+            b.sums
+                .add(complete(sub, &mut b.work, &input.lin, m, out, None));
+            continue;
+        }
+        for &j in &now {
+            let (c, i, b, _) = &mut members[j];
+            let input = &inputs[*c];
+            form_rhs(
+                &input.ops.subs[*i],
+                &mut b.work,
+                &input.lin,
+                input.lin.steps.0 + step,
+            );
+        }
+        // one pass through the factor for every member marching this step, zero columns up
+        // to the block's width
+        block.resize(n * columns, 0.0);
+        for (col, &j) in now.iter().enumerate() {
+            block[col * n..(col + 1) * n].copy_from_slice(members[j].2.work.rhs_mut());
+        }
+        block[now.len() * n..].iter_mut().for_each(|x| *x = 0.0);
+        let scratch = scratch.get_or_insert_with(|| factor.scratch_for(columns));
+        factor.solve_columns_in_place(&mut block, columns, scratch);
+        for (col, &j) in now.iter().enumerate() {
+            let (c, i, b, out) = &mut members[j];
+            b.work
+                .rhs_mut()
+                .copy_from_slice(&block[col * n..(col + 1) * n]);
+            add_guess(&mut b.work);
+            let input = &inputs[*c];
+            let m = input.lin.steps.0 + step;
+            let sums = complete(&input.ops.subs[*i], &mut b.work, &input.lin, m, out, None);
+            b.sums.add(sums);
+        }
+    }
+    for &j in &marching {
+        let (c, i, b, out) = &mut members[j];
+        let input = &inputs[*c];
+        if input.whole {
+            b.skip
+                .store(&input.ops.subs[*i], input.lin.hats, &b.work, out, b.sums);
+        } else {
+            b.skip.clear();
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn blocks_are_as_even_as_possible_and_at_most_the_widest() {
+        assert_eq!(block_width(1), 1);
+        assert_eq!(block_width(5), 5);
+        assert_eq!(block_width(16), 16);
+        assert_eq!(block_width(17), 9);
+        assert_eq!(block_width(40), 14);
+        assert_eq!(block_width(300), 16);
+        assert_eq!(block_width(33), 11);
+        for m in 1..200 {
+            let w = block_width(m);
+            assert!(w <= MAX_WIDTH && m.div_ceil(w) == m.div_ceil(MAX_WIDTH));
+        }
+    }
+}
