@@ -13,9 +13,11 @@ use crate::elements::hex8;
 use crate::interfaces::interface::Law;
 use crate::mesh::{dot, Element, Vec3};
 use crate::par;
+use crate::solver::blocks::{class_blocks, solve_together};
 use crate::solver::{Solution, Solver};
 use crate::stages::linear_stage::{
-    march, predict_refined, LinearInput, LinearWork, StepVisitor, SubState,
+    add_guess, complete, form_rhs, march, predict_refined, LinearInput, LinearWork, StepVisitor,
+    SubState,
 };
 use crate::state::TraceHistory;
 use crate::substructure::{SideRef, Substructure};
@@ -289,59 +291,179 @@ impl<'a> Viscous<'a> {
     }
 }
 
+/// Replays every substructure this rank holds driven by ŝ over steps 1..=until, in the blocks
+/// the solve's linear stage marched in (on windows, substructures that share a factorization
+/// together; over the whole interval with the skip cache, each alone: [`crate::solver::blocks`]),
+/// in parallel: `start(i)` makes substructure `i`'s
+/// visitor, which `visit(visitor, m, state, F, W)` hands every step (m = 0: the initial state).
+/// Gives back the visitors of the substructures held, by increasing index.
+pub fn replay_blocks<T: Send>(
+    solver: &Solver,
+    sol: &Solution,
+    until: usize,
+    start: impl Fn(usize) -> T + Sync,
+    visit: impl Fn(&mut T, usize, &SubState, &[f64], &[f64]) + Sync,
+) -> Vec<(usize, T)> {
+    let p = solver.problem();
+    let dist = solver.distribution();
+    let settings = solver.settings();
+    let whole = settings.window.is_none_or(|w| w >= p.time.steps);
+    let blocks = class_blocks(
+        solver.classes(),
+        |i| dist.holds_sub(i),
+        whole && settings.skip_unchanged,
+    );
+    let until = until.min(p.time.steps);
+    let input = LinearInput {
+        interfaces: &p.interfaces,
+        hats: &sol.hats,
+        k: solver.settings().k,
+        time: p.step_coefficients(),
+        steps: (1, until.max(1)),
+    };
+    let per_block = par::map_range(blocks.len(), |b| {
+        let (width, members) = &blocks[b];
+        let factor = solver.factor(members[0]);
+        let mut works: Vec<LinearWork> = members
+            .iter()
+            .map(|&i| LinearWork::new(&p.subs[i], factor, &input.time))
+            .collect();
+        let mut outs: Vec<TraceHistory> = members
+            .iter()
+            .map(|&i| TraceHistory::zeros(p.subs[i].trace_len(), p.time.steps))
+            .collect();
+        let mut visitors: Vec<T> = members.iter().map(|&i| start(i)).collect();
+        for ((visitor, work), &i) in visitors.iter_mut().zip(&works).zip(members) {
+            let h0 = &sol.state.subs[i];
+            visit(visitor, 0, &work.state, &h0.f[h0.at(0)], &h0.w[h0.at(0)]);
+        }
+        let (mut block, mut scratch) = (Vec::new(), None);
+        for m in 1..=until {
+            // a single-precision factor's solve refined once more (as [`predict_refined`])
+            for pass in 0..2 {
+                for (work, &i) in works.iter_mut().zip(members) {
+                    form_rhs(&p.subs[i], work, &input, m);
+                }
+                solve_together(factor, works.iter_mut(), *width, &mut block, &mut scratch);
+                let mut again = false;
+                for (work, &i) in works.iter_mut().zip(members) {
+                    add_guess(work);
+                    again |= pass == 0 && work.keep_as_guess(&p.subs[i], &input, m);
+                }
+                if !again {
+                    break;
+                }
+            }
+            for (((work, out), visitor), &i) in works
+                .iter_mut()
+                .zip(&mut outs)
+                .zip(&mut visitors)
+                .zip(members)
+            {
+                complete(&p.subs[i], work, &input, m, out, None);
+                let r = out.at(m);
+                visit(visitor, m, &work.state, &out.f[r.clone()], &out.w[r]);
+            }
+        }
+        members.iter().copied().zip(visitors).collect::<Vec<_>>()
+    });
+    let mut all: Vec<(usize, T)> = per_block.into_iter().flatten().collect();
+    all.sort_by_key(|(i, _)| *i);
+    all
+}
+
+/// What the energy balance gathers of one substructure over the replay.
+struct SubEnergy<'a> {
+    sub: &'a Substructure,
+    ranges: Vec<std::ops::Range<usize>>,
+    /// Kinetic, strain, input work and damping per step.
+    histories: [Vec<f64>; 4],
+    prev_f: Vec<f64>,
+    prev_w: Vec<f64>,
+    prev_u: Vec<f64>,
+    viscous: Option<Viscous<'a>>,
+}
+
+impl SubEnergy<'_> {
+    /// Adds step m of the replay (m = 0: the initial state).
+    fn step(
+        &mut self,
+        m: usize,
+        st: &SubState,
+        (f, w): (&[f64], &[f64]),
+        scheme: (f64, bool, f64),
+    ) {
+        let (dt, trapezoidal, gamma) = scheme;
+        let sub = self.sub;
+        if let Some(d) = self.viscous.as_mut() {
+            d.step(m, st, dt, (trapezoidal, gamma));
+        }
+        let [kin, strain, work, _] = &mut self.histories;
+        kin[m] = kinetic_energy(sub, &st.v);
+        strain[m] = strain_energy(st);
+        if m > 0 {
+            // u_m − u_{m−1} of the trace dof: Δt/2 (W_m + W_{m−1}) for the trapezoidal rule,
+            // the Newmark update otherwise
+            let prev_u = &self.prev_u;
+            let prev_w = &self.prev_w;
+            let dw = boundary_work(sub, &self.ranges, gamma, (f, &self.prev_f), |j| {
+                if trapezoidal {
+                    0.5 * dt * (w[j] + prev_w[j])
+                } else {
+                    sub.trace_value(j, &st.u) - prev_u[j]
+                }
+            });
+            work[m] = work[m - 1] + dw;
+        }
+        self.prev_f.copy_from_slice(f);
+        self.prev_w.copy_from_slice(w);
+        if !trapezoidal {
+            for (j, u) in self.prev_u.iter_mut().enumerate() {
+                *u = sub.trace_value(j, &st.u);
+            }
+        }
+    }
+}
+
 /// The energy balance of the converged fields.
 pub fn energy(solver: &Solver, sol: &Solution) -> EnergyHistory {
     let t = Instant::now();
     let p = solver.problem();
     let n = p.time.steps;
-    let dt = p.time.dt;
-    let trapezoidal = p.scheme.is_trapezoidal();
-    let gamma = p.scheme.parameters().1;
+    let scheme = (
+        p.time.dt,
+        p.scheme.is_trapezoidal(),
+        p.scheme.parameters().1,
+    );
     let c_k = p.step_coefficients().stiffness;
     let dist = solver.distribution();
-    let per_sub = par::map_range(p.subs.len(), |i| {
-        if !dist.holds_sub(i) {
-            // −0: the neutral element of the sum over the ranks
-            return std::array::from_fn(|_| vec![-0.0; n + 1]);
-        }
-        let sub = &p.subs[i];
-        let ranges = boundary_ranges(p, sub);
-        let mut kin = vec![0.0; n + 1];
-        let mut strain = vec![0.0; n + 1];
-        let mut work = vec![0.0; n + 1];
-        let mut prev_f = vec![0.0; sub.trace_len()];
-        let mut prev_w = vec![0.0; sub.trace_len()];
-        let mut prev_u = vec![0.0; sub.trace_len()];
-        let mut viscous = Viscous::new(sub, c_k, n);
-        replay(solver, sol, i, n, &mut |m, st, f, w| {
-            if let Some(d) = viscous.as_mut() {
-                d.step(m, st, dt, (trapezoidal, gamma));
+    let replayed = replay_blocks(
+        solver,
+        sol,
+        n,
+        |i| {
+            let sub = &p.subs[i];
+            SubEnergy {
+                sub,
+                ranges: boundary_ranges(p, sub),
+                histories: std::array::from_fn(|_| vec![0.0; n + 1]),
+                prev_f: vec![0.0; sub.trace_len()],
+                prev_w: vec![0.0; sub.trace_len()],
+                prev_u: vec![0.0; sub.trace_len()],
+                viscous: Viscous::new(sub, c_k, n),
             }
-            kin[m] = kinetic_energy(sub, &st.v);
-            strain[m] = strain_energy(sub, &st.u);
-            if m > 0 {
-                // u_m − u_{m−1} of the trace dof: Δt/2 (W_m + W_{m−1}) for the trapezoidal
-                // rule, the Newmark update otherwise
-                let dw = boundary_work(sub, &ranges, gamma, (f, &prev_f), |j| {
-                    if trapezoidal {
-                        0.5 * dt * (w[j] + prev_w[j])
-                    } else {
-                        sub.trace_value(j, &st.u) - prev_u[j]
-                    }
-                });
-                work[m] = work[m - 1] + dw;
-            }
-            prev_f.copy_from_slice(f);
-            prev_w.copy_from_slice(w);
-            if !trapezoidal {
-                for (j, u) in prev_u.iter_mut().enumerate() {
-                    *u = sub.trace_value(j, &st.u);
-                }
-            }
-        });
-        let damping = viscous.map_or_else(|| vec![0.0; n + 1], |d| d.dissipated);
-        [kin, strain, work, damping]
-    });
+        },
+        |e, m, st, f, w| e.step(m, st, (f, w), scheme),
+    );
+    // −0: the neutral element of the sum over the ranks
+    let mut per_sub: Vec<[Vec<f64>; 4]> = (0..p.subs.len())
+        .map(|_| std::array::from_fn(|_| vec![-0.0; n + 1]))
+        .collect();
+    for (i, e) in replayed {
+        let [kin, strain, work, _] = e.histories;
+        let damping = e.viscous.map_or_else(|| vec![0.0; n + 1], |d| d.dissipated);
+        per_sub[i] = [kin, strain, work, damping];
+    }
     let mut e = EnergyHistory {
         kinetic: vec![0.0; n + 1],
         strain: vec![0.0; n + 1],
@@ -379,9 +501,13 @@ pub(crate) fn kinetic_energy(sub: &Substructure, v: &[f64]) -> f64 {
         .sum::<f64>()
 }
 
-/// ½ uᵀ K u of a substructure.
-pub(crate) fn strain_energy(sub: &Substructure, u: &[f64]) -> f64 {
-    0.5 * sub.stiffness.quadratic_form(u)
+/// ½ uᵀ K u of a substructure's state, from the K u its march carries.
+pub(crate) fn strain_energy(state: &SubState) -> f64 {
+    0.5 * dot_slices(&state.u, &state.ku)
+}
+
+fn dot_slices(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
 /// The trace ranges of a substructure's sides on boundary interfaces (whose work is the input).

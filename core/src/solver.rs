@@ -21,7 +21,7 @@
 //! reaches the same iterates, η and decisions as the run on one machine.
 
 pub mod batch;
-mod blocks;
+pub(crate) mod blocks;
 pub mod end_energy;
 pub mod iteration;
 mod linear;

@@ -13,12 +13,15 @@
 //! of the threaded run bit for bit. Over the whole interval the skip cache replays the
 //! substructures whose inputs did not change, which no rank can know of another's: there each
 //! substructure marches alone, with the same substructure of the batch's other configurations.
+//! A replay of the converged fields ([`crate::post::replay_blocks`]) marches in the blocks of the
+//! solve's linear stage, so that it gives that stage's fields bit for bit.
 
 use super::linear::{BatchInput, SingleScaleSub};
-use crate::linalg::factor::SolveScratch;
+use crate::linalg::factor::{CholeskyFactor, SolveScratch};
+use crate::macro_scale::operator_classes::Classes;
 use crate::par;
 use crate::stages::indicator::IndicatorSums;
-use crate::stages::linear_stage::{add_guess, complete, form_rhs, predict};
+use crate::stages::linear_stage::{add_guess, complete, form_rhs, LinearWork};
 use crate::state::TraceHistory;
 
 /// The widest block: past it a column costs little less and the blocks get too few to share
@@ -34,6 +37,80 @@ pub(super) type Member<'a> = (usize, usize, &'a mut SingleScaleSub, &'a mut Trac
 pub(super) fn block_width(members: usize) -> usize {
     let blocks = members.div_ceil(MAX_WIDTH).max(1);
     members.div_ceil(blocks).max(1)
+}
+
+/// `members` cut into consecutive blocks of `width`.
+fn in_blocks<T>(members: Vec<T>, width: usize) -> Vec<Vec<T>> {
+    let mut members = members.into_iter().peekable();
+    let mut blocks = Vec::new();
+    while members.peek().is_some() {
+        blocks.push(members.by_ref().take(width).collect());
+    }
+    blocks
+}
+
+/// The substructures `held` cut into the blocks a lone configuration marches in, with their
+/// width: each alone over the whole interval with the skip cache (`alone`), else each class's
+/// in index order.
+pub(crate) fn class_blocks(
+    classes: &Classes,
+    held: impl Fn(usize) -> bool,
+    alone: bool,
+) -> Vec<(usize, Vec<usize>)> {
+    if alone {
+        return (0..classes.of.len())
+            .filter(|&i| held(i))
+            .map(|i| (1, vec![i]))
+            .collect();
+    }
+    let mut size = vec![0usize; classes.count()];
+    let mut by_class: Vec<Vec<usize>> = vec![Vec::new(); classes.count()];
+    for (i, &c) in classes.of.iter().enumerate() {
+        size[c] += 1;
+        if held(i) {
+            by_class[c].push(i);
+        }
+    }
+    by_class
+        .into_iter()
+        .enumerate()
+        .flat_map(|(c, members)| {
+            let width = block_width(size[c]);
+            in_blocks(members, width)
+                .into_iter()
+                .map(move |b| (width, b))
+        })
+        .collect()
+}
+
+/// Solves the right-hand sides of `works` in place in one pass through `factor`, `columns`
+/// wide (zero columns padding; one column: in place with the work's own scratch), through the
+/// buffers `block` and `scratch`.
+pub(crate) fn solve_together<'w>(
+    factor: &CholeskyFactor,
+    works: impl Iterator<Item = &'w mut LinearWork>,
+    columns: usize,
+    block: &mut Vec<f64>,
+    scratch: &mut Option<SolveScratch>,
+) {
+    let mut works: Vec<&mut LinearWork> = works.collect();
+    if columns == 1 {
+        if let Some(w) = works.first_mut() {
+            w.solve_in_place(factor);
+        }
+        return;
+    }
+    let n = factor.n();
+    block.resize(n * columns, 0.0);
+    for (col, w) in works.iter_mut().enumerate() {
+        block[col * n..(col + 1) * n].copy_from_slice(w.rhs_mut());
+    }
+    block[works.len() * n..].iter_mut().for_each(|x| *x = 0.0);
+    let scratch = scratch.get_or_insert_with(|| factor.scratch_for(columns));
+    factor.solve_columns_in_place(block, columns, scratch);
+    for (col, w) in works.iter_mut().enumerate() {
+        w.rhs_mut().copy_from_slice(&block[col * n..(col + 1) * n]);
+    }
 }
 
 /// Marches every substructure of every configuration of `stages` (with `inputs`, writing
@@ -74,10 +151,11 @@ pub(super) fn march_all(
         .collect();
     for (class, members) in by_class.into_iter().enumerate() {
         let width = block_width(size[class] * windowed);
-        let mut members = members.into_iter().peekable();
-        while members.peek().is_some() {
-            blocks.push((Some(width), members.by_ref().take(width).collect()));
-        }
+        blocks.extend(
+            in_blocks(members, width)
+                .into_iter()
+                .map(|b| (Some(width), b)),
+        );
     }
     par::for_each_mut(&mut blocks, |_, (width, members)| {
         march_block(members, *width, inputs)
@@ -114,58 +192,38 @@ fn march_block(members: &mut [Member<'_>], width: Option<usize>, inputs: &[Batch
         .map(|&j| length(members[j].0))
         .max()
         .unwrap_or(0);
-    let n = factor.n();
     let mut block = Vec::new();
     let mut scratch: Option<SolveScratch> = None;
-    let mut now = Vec::with_capacity(marching.len());
+    let mut now = vec![false; members.len()];
     for step in 0..longest {
-        now.clear();
-        now.extend(
-            marching
-                .iter()
-                .copied()
-                .filter(|&j| step < length(members[j].0)),
-        );
-        let columns = width.unwrap_or(now.len()).max(now.len());
-        if columns == 1 {
-            // one column: the member's own solve, in place
-            let (c, i, b, out) = &mut members[now[0]];
-            let input = &inputs[*c];
-            let (sub, m) = (&input.ops.subs[*i], input.lin.steps.0 + step);
-            predict(sub, factor, &mut b.work, &input.lin, m);
-            b.sums
-                .add(complete(sub, &mut b.work, &input.lin, m, out, None));
-            continue;
+        let mut count = 0;
+        for &j in &marching {
+            now[j] = step < length(members[j].0);
+            count += usize::from(now[j]);
         }
-        for &j in &now {
-            let (c, i, b, _) = &mut members[j];
-            let input = &inputs[*c];
-            form_rhs(
-                &input.ops.subs[*i],
-                &mut b.work,
-                &input.lin,
-                input.lin.steps.0 + step,
-            );
+        for (j, (c, i, b, _)) in members.iter_mut().enumerate() {
+            if now[j] {
+                let input = &inputs[*c];
+                let m = input.lin.steps.0 + step;
+                form_rhs(&input.ops.subs[*i], &mut b.work, &input.lin, m);
+            }
         }
-        // one pass through the factor for every member marching this step, zero columns up
-        // to the block's width
-        block.resize(n * columns, 0.0);
-        for (col, &j) in now.iter().enumerate() {
-            block[col * n..(col + 1) * n].copy_from_slice(members[j].2.work.rhs_mut());
-        }
-        block[now.len() * n..].iter_mut().for_each(|x| *x = 0.0);
-        let scratch = scratch.get_or_insert_with(|| factor.scratch_for(columns));
-        factor.solve_columns_in_place(&mut block, columns, scratch);
-        for (col, &j) in now.iter().enumerate() {
-            let (c, i, b, out) = &mut members[j];
-            b.work
-                .rhs_mut()
-                .copy_from_slice(&block[col * n..(col + 1) * n]);
-            add_guess(&mut b.work);
-            let input = &inputs[*c];
-            let m = input.lin.steps.0 + step;
-            let sums = complete(&input.ops.subs[*i], &mut b.work, &input.lin, m, out, None);
-            b.sums.add(sums);
+        // one pass through the factor for every member marching this step
+        let columns = width.unwrap_or(count).max(count);
+        let works = members
+            .iter_mut()
+            .enumerate()
+            .filter(|(j, _)| now[*j])
+            .map(|(_, member)| &mut member.2.work);
+        solve_together(factor, works, columns, &mut block, &mut scratch);
+        for (j, (c, i, b, out)) in members.iter_mut().enumerate() {
+            if now[j] {
+                add_guess(&mut b.work);
+                let input = &inputs[*c];
+                let m = input.lin.steps.0 + step;
+                let sums = complete(&input.ops.subs[*i], &mut b.work, &input.lin, m, out, None);
+                b.sums.add(sums);
+            }
         }
     }
     for &j in &marching {

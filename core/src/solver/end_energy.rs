@@ -1,12 +1,12 @@
 //! The energy balance at the end of a finished single-scale solve, from what its last linear
 //! stages left (METHOD §2, §4): the kinetic energy ½ vᵀ M v and strain energy ½ uᵀ K u of each
-//! substructure's end state, and the work of the boundary interfaces
+//! substructure's end state (K u as the march carries it), and the work of the boundary interfaces
 //! Σ_m Σ_j A_j (γ F_m + (1 − γ) F_{m−1}) Δt/2 (W_m + W_{m−1}) from the linear stage's trace
 //! fields. Each window's last linear stage marched what a replay driven by the converged ŝ
-//! marches ([`crate::post::replay`]), so these are the end values of [`crate::post::energy`]
-//! (same sums in the same order; bit for bit where each substructure marched alone, to the
-//! rounding of the blocked solves where substructures sharing a factorization marched together,
-//! [`super::blocks`]) without marching the interval again. Trapezoidal rule only:
+//! marches, in the same blocks ([`crate::post::replay_blocks`]), so these are the end values of
+//! [`crate::post::energy`] (same sums in the same order, bit for bit; to rounding for a lane of
+//! a batch, whose blocks hold the other lanes' columns) without marching the interval again.
+//! Trapezoidal rule only:
 //! the dissipative scheme's work needs the trace displacements of every step, which only a
 //! replay gives.
 
@@ -61,11 +61,7 @@ pub fn end_energy(
                 0.5 * dt * (w[j] + prev_w[j])
             });
         }
-        per_sub.extend([
-            kinetic_energy(sub, &end.v),
-            strain_energy(sub, &end.u),
-            work,
-        ]);
+        per_sub.extend([kinetic_energy(sub, &end.v), strain_energy(end), work]);
     }
     if !distribution.is_single() {
         distribution.all_sum(&mut per_sub);

@@ -167,6 +167,32 @@ impl LinearWork {
         &mut self.rhs_then_v
     }
 
+    /// With a single-precision factor, keeps the solution of step m just found and its
+    /// c_K K v (in the buffer the next [`form_rhs`] refills) as the guess a second solve of
+    /// that step refines from ([`predict_refined`]); returns whether it did (false in double
+    /// precision, where one solve is exact).
+    pub fn keep_as_guess(&mut self, sub: &Substructure, input: &LinearInput<'_>, m: usize) -> bool {
+        if !self.single {
+            return false;
+        }
+        let LinearWork {
+            rhs_then_v: v,
+            rhs_then_ckv: ckv,
+            guesses,
+            ..
+        } = self;
+        sub.stiffness.mul_into(v, ckv);
+        let ck = input.time.stiffness;
+        ckv.iter_mut().for_each(|x| *x *= ck);
+        guesses.store(m, input.steps.0, v, ckv);
+        true
+    }
+
+    /// Replaces the right-hand side [`form_rhs`] formed by its solution with `factor`, S's.
+    pub fn solve_in_place(&mut self, factor: &CholeskyFactor) {
+        factor.solve_in_place(&mut self.rhs_then_v, &mut self.scratch);
+    }
+
     /// Gathers ŝ of step m from the interface sides of `sub` into trace layout.
     pub fn gather_hat(
         &mut self,
@@ -249,7 +275,7 @@ pub fn predict(
     m: usize,
 ) {
     form_rhs(sub, work, input, m);
-    factor.solve_in_place(&mut work.rhs_then_v, &mut work.scratch);
+    work.solve_in_place(factor);
     add_guess(work);
 }
 
@@ -263,19 +289,7 @@ pub fn predict_refined(
     m: usize,
 ) {
     predict(sub, factor, work, input, m);
-    if work.single {
-        // the first solution and its c_K K v (in the buffer the next form_rhs refills) are
-        // the guess of the second solve
-        let LinearWork {
-            rhs_then_v: v,
-            rhs_then_ckv: ckv,
-            guesses,
-            ..
-        } = work;
-        sub.stiffness.mul_into(v, ckv);
-        let ck = input.time.stiffness;
-        ckv.iter_mut().for_each(|x| *x *= ck);
-        guesses.store(m, input.steps.0, v, ckv);
+    if work.keep_as_guess(sub, input, m) {
         predict(sub, factor, work, input, m);
     }
 }
