@@ -31,6 +31,8 @@ pub(crate) struct BackgroundSolve {
 pub(crate) struct Lanes {
     busy: Vec<BackgroundSolve>,
     spare: Vec<(Solver, Params)>,
+    /// A lane could not be made: no more until the user's parameters change.
+    failed: bool,
 }
 
 impl Lanes {
@@ -49,19 +51,40 @@ impl Lanes {
         self.busy.iter().filter_map(|l| l.params.friction).collect()
     }
 
-    /// Begins solving `params` from `state` on a spare lane, or on a new lane of `user` (whose
-    /// problem holds the parameters `applied`); `start` is the friction value of that state.
+    /// Makes sure a lane is free for [`Lanes::begin`]: a spare one, or a new lane of `user`
+    /// (whose problem holds the parameters `applied`). An error here concerns the solver, not a
+    /// value.
+    pub fn make_ready(&mut self, user: &Solver, applied: &Params) -> lopin_core::Result<()> {
+        if self.spare.is_empty() {
+            match user.lane() {
+                Ok(lane) => self.spare.push((lane, applied.clone())),
+                Err(e) => {
+                    self.failed = true;
+                    return Err(e);
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Whether a lane could not be made since the user's parameters last changed.
+    pub fn failed(&self) -> bool {
+        self.failed
+    }
+
+    /// Begins solving `params` from `state` on the lane [`Lanes::make_ready`] made free; `start`
+    /// is the friction value of that state. An error concerns this value.
     pub fn begin(
         &mut self,
-        user: &Solver,
-        applied: &Params,
         params: Params,
         state: Option<&InterfaceState>,
         start: Option<f64>,
     ) -> lopin_core::Result<()> {
-        let (mut solver, before) = match self.spare.pop() {
-            Some(spare) => spare,
-            None => (user.lane()?, applied.clone()),
+        let Some((mut solver, before)) = self.spare.pop() else {
+            return Err(lopin_core::LopinError::setting(
+                "background",
+                "no lane is ready",
+            ));
         };
         // a lane whose parameters could not all be set is dropped
         params.apply(&before, &mut solver)?;
@@ -124,6 +147,7 @@ impl Lanes {
     pub fn forget(&mut self) -> bool {
         let any = self.cancel();
         self.spare.clear();
+        self.failed = false;
         any
     }
 }

@@ -306,9 +306,14 @@ impl Service {
     }
 
     /// The friction value the background study orders its work around (the user's newest),
-    /// when it may run: not paused, the user's solve converged and in the library.
+    /// when it may run: not paused, its lanes could be made, the user's solve converged and in
+    /// the library.
     fn study_value(&self) -> Option<f64> {
-        if self.control.paused || self.running.is_some() || self.held.is_some() {
+        if self.control.paused
+            || self.running.is_some()
+            || self.held.is_some()
+            || self.background.failed()
+        {
             return None;
         }
         let c = self.current.as_ref()?;
@@ -381,6 +386,14 @@ impl Service {
         };
         let mut began = false;
         while self.background.len() < self.control.lanes.max(1) {
+            // a lane that cannot be made stops the filling; no value is given up for it
+            if self
+                .background
+                .make_ready(&self.solver, &self.applied)
+                .is_err()
+            {
+                break;
+            }
             let (Some(c), Some(value)) = (
                 self.current.as_ref(),
                 self.library.next_value(current, &self.background.values()),
@@ -396,9 +409,7 @@ impl Service {
                 Some((s, v, _)) => (s, Some(*v)),
                 None => (&c.solution.state, Some(current)),
             };
-            let begun =
-                self.background
-                    .begin(&self.solver, &self.applied, params, Some(state), start);
+            let begun = self.background.begin(params, Some(state), start);
             match begun {
                 Ok(()) => began = true,
                 // a value that cannot be set or begun is given up, not reported

@@ -74,9 +74,9 @@ impl Solver {
     }
 }
 
-/// One LATIN iteration of every lane whose solve has not ended, the linear stages of the
-/// single-scale lanes that share the first such lane's factorizations marched together
-/// (module doc). `observer(l, iterate)` sees lane `l`'s iterate as [`Solver::step`] shows it.
+/// One LATIN iteration of every lane whose solve has not ended, the linear stages of the lanes
+/// of one variant (single- or two-scale) that share the first such lane's factorizations
+/// marched together (module doc). `observer(l, iterate)` sees lane `l`'s iterate as [`Solver::step`] shows it.
 /// Returns, per lane, whether its solve has ended.
 pub fn step_together(
     lanes: &mut [Lane<'_>],

@@ -99,6 +99,10 @@ impl LinearStage {
         inputs: &[BatchInput<'_>],
         outs: &mut [&mut [TraceHistory]],
     ) -> Vec<LinearOutcome> {
+        debug_assert!(
+            inputs.iter().all(|b| b.ops.distribution.is_single()),
+            "configurations marched together are on one machine"
+        );
         let mut singles = Vec::with_capacity(stages.len());
         let mut twos = Vec::with_capacity(stages.len());
         for stage in stages {
