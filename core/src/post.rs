@@ -376,8 +376,8 @@ pub fn replay_blocks<T: Send>(
 struct SubEnergy<'a> {
     sub: &'a Substructure,
     ranges: Vec<std::ops::Range<usize>>,
-    /// Kinetic, strain, input work and damping per step.
-    histories: [Vec<f64>; 4],
+    /// Kinetic, strain and input work per step.
+    histories: [Vec<f64>; 3],
     prev_f: Vec<f64>,
     prev_w: Vec<f64>,
     prev_u: Vec<f64>,
@@ -398,7 +398,7 @@ impl SubEnergy<'_> {
         if let Some(d) = self.viscous.as_mut() {
             d.step(m, st, dt, (trapezoidal, gamma));
         }
-        let [kin, strain, work, _] = &mut self.histories;
+        let [kin, strain, work] = &mut self.histories;
         kin[m] = kinetic_energy(sub, &st.v);
         strain[m] = strain_energy(st);
         if m > 0 {
@@ -460,7 +460,7 @@ pub fn energy(solver: &Solver, sol: &Solution) -> EnergyHistory {
         .map(|_| std::array::from_fn(|_| vec![-0.0; n + 1]))
         .collect();
     for (i, e) in replayed {
-        let [kin, strain, work, _] = e.histories;
+        let [kin, strain, work] = e.histories;
         let damping = e.viscous.map_or_else(|| vec![0.0; n + 1], |d| d.dissipated);
         per_sub[i] = [kin, strain, work, damping];
     }

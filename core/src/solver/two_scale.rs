@@ -16,6 +16,7 @@
 //! ([`TwoScale::run_batched`]): at every step the micro solves of all of them go through each
 //! substructure's factor in one pass, then each solves its own macro problem and corrects.
 
+use super::blocks::solve_together;
 use super::linear::{BatchInput, LinearOutcome, Operators};
 use crate::counters::Instant;
 use crate::linalg::factor::{CholeskyFactor, SolveScratch};
@@ -308,25 +309,26 @@ fn predict_together(
     inputs: &[BatchInput<'_>],
     step: usize,
 ) {
-    let n = factor.n();
     for &c in marching {
         let input = &inputs[c];
         let sub: &Substructure = &input.ops.subs[i];
         let work = &mut batch.members[c].0.work;
         form_rhs(sub, work, &input.lin, input.lin.steps.0 + step);
     }
-    batch.block.resize(n * marching.len(), 0.0);
-    for (col, &c) in marching.iter().enumerate() {
-        batch.block[col * n..(col + 1) * n].copy_from_slice(batch.members[c].0.work.rhs_mut());
-    }
-    let scratch = batch
-        .scratch
-        .get_or_insert_with(|| factor.scratch_for(inputs.len()));
-    factor.solve_columns_in_place(&mut batch.block, marching.len(), scratch);
-    for (col, &c) in marching.iter().enumerate() {
-        let work = &mut batch.members[c].0.work;
-        work.rhs_mut()
-            .copy_from_slice(&batch.block[col * n..(col + 1) * n]);
-        add_guess(work);
+    let works = batch
+        .members
+        .iter_mut()
+        .enumerate()
+        .filter(|(c, _)| marching.contains(c))
+        .map(|(_, member)| &mut member.0.work);
+    solve_together(
+        factor,
+        works,
+        marching.len(),
+        &mut batch.block,
+        &mut batch.scratch,
+    );
+    for &c in marching {
+        add_guess(&mut batch.members[c].0.work);
     }
 }
