@@ -21,7 +21,7 @@ use crate::linalg::factor::{CholeskyFactor, SolveScratch};
 use crate::macro_scale::operator_classes::Classes;
 use crate::par;
 use crate::stages::indicator::IndicatorSums;
-use crate::stages::linear_stage::{add_guess, complete, form_rhs, LinearWork};
+use crate::stages::linear_stage::{add_guess, complete_from, form_rhs_from, LinearWork};
 use crate::state::TraceHistory;
 
 /// The widest block: past it a column costs little less and the blocks get too few to share
@@ -181,7 +181,12 @@ fn march_block(members: &mut [Member<'_>], width: Option<usize>, inputs: &[Batch
                 continue;
             }
         }
-        b.work.state.clone_from(&input.starts[*i]);
+        // the march writes the work's state from the start's first step on (no copy), into
+        // vectors of the start's sizes
+        let start = &input.starts[*i];
+        if !b.work.state.same_shape(start) {
+            b.work.state.clone_from(start);
+        }
         b.sums = IndicatorSums::default();
         b.skipped = false;
         marching.push(j);
@@ -205,7 +210,9 @@ fn march_block(members: &mut [Member<'_>], width: Option<usize>, inputs: &[Batch
             if now[j] {
                 let input = &inputs[*c];
                 let m = input.lin.steps.0 + step;
-                form_rhs(&input.ops.subs[*i], &mut b.work, &input.lin, m);
+                // the first step reads the window's start, which the work's state then replaces
+                let prev = (step == 0).then(|| &input.starts[*i]);
+                form_rhs_from(&input.ops.subs[*i], &mut b.work, &input.lin, m, prev);
             }
         }
         // one pass through the factor for every member marching this step
@@ -221,7 +228,9 @@ fn march_block(members: &mut [Member<'_>], width: Option<usize>, inputs: &[Batch
                 add_guess(&mut b.work);
                 let input = &inputs[*c];
                 let m = input.lin.steps.0 + step;
-                let sums = complete(&input.ops.subs[*i], &mut b.work, &input.lin, m, out, None);
+                let prev = (step == 0).then(|| &input.starts[*i]);
+                let sub = &input.ops.subs[*i];
+                let sums = complete_from(sub, &mut b.work, &input.lin, m, out, None, prev);
                 b.sums.add(sums);
             }
         }

@@ -55,6 +55,22 @@ pub struct SubState {
 }
 
 impl SubState {
+    /// Whether `other`'s vectors have this state's lengths (a march may then write this state
+    /// from `other` without copying it first).
+    pub fn same_shape(&self, other: &SubState) -> bool {
+        let lengths = |s: &SubState| {
+            [
+                s.u.len(),
+                s.v.len(),
+                s.a.len(),
+                s.ku.len(),
+                s.ckv.len(),
+                s.ka.len(),
+            ]
+        };
+        lengths(self) == lengths(other)
+    }
+
     /// The initial state: u₀ = 0 (or the preload's static displacement, in equilibrium with its
     /// interface tractions F₀), v₀ given, a₀ = M⁻¹(f_ext,0 − K u₀ + Bᵀ A F₀ − C v₀) = −M⁻¹ C v₀
     /// (no body load; 0 without damping).
@@ -299,6 +315,18 @@ pub fn predict_refined(
 /// several right-hand sides through one pass of the factor puts the solution back and calls
 /// [`add_guess`] before [`complete`].
 pub fn form_rhs(sub: &Substructure, work: &mut LinearWork, input: &LinearInput<'_>, m: usize) {
+    form_rhs_from(sub, work, input, m, None);
+}
+
+/// [`form_rhs`] from the state at m − 1 in `prev` instead of the work's own state (the first
+/// step of a window, whose start the march then need not copy; [`complete_from`] ends it).
+pub fn form_rhs_from(
+    sub: &Substructure,
+    work: &mut LinearWork,
+    input: &LinearInput<'_>,
+    m: usize,
+    prev: Option<&SubState>,
+) {
     let (k, c) = (input.k, &input.time);
     work.gather_hat(sub, input.interfaces, input.hats, m);
     let LinearWork {
@@ -309,17 +337,27 @@ pub fn form_rhs(sub: &Substructure, work: &mut LinearWork, input: &LinearInput<'
         what,
         ..
     } = work;
+    let state = prev.unwrap_or(state);
     // r_m = M(c_M v + c_A a) − K(u + d_V v + d_A a) + Bᵀ A (F̂ + k Ŵ)
+    let n = rhs.len();
+    let (rhs, mass) = (&mut rhs[..n], &sub.mass[..n]);
+    let (v, a, ku, ckv) = (
+        &state.v[..n],
+        &state.a[..n],
+        &state.ku[..n],
+        &state.ckv[..n],
+    );
+    let c_mass = c.mass;
     if c.trapezoidal {
-        for i in 0..rhs.len() {
-            rhs[i] =
-                sub.mass[i] * (c.mass * state.v[i] + state.a[i]) - (state.ku[i] + state.ckv[i]);
+        for i in 0..n {
+            rhs[i] = mass[i] * (c_mass * v[i] + a[i]) - (ku[i] + ckv[i]);
         }
     } else {
-        let ratio = c.u_from_v / c.stiffness;
-        for i in 0..rhs.len() {
-            rhs[i] = sub.mass[i] * (c.mass * state.v[i] + c.mass_a * state.a[i])
-                - (state.ku[i] + ratio * state.ckv[i] + c.u_from_a * state.ka[i]);
+        let ka = &state.ka[..n];
+        let (ratio, mass_a, u_from_a) = (c.u_from_v / c.stiffness, c.mass_a, c.u_from_a);
+        for i in 0..n {
+            rhs[i] = mass[i] * (c_mass * v[i] + mass_a * a[i])
+                - (ku[i] + ratio * ckv[i] + u_from_a * ka[i]);
         }
     }
     for j in 0..sub.trace_len() {
@@ -328,19 +366,20 @@ pub fn form_rhs(sub: &Substructure, work: &mut LinearWork, input: &LinearInput<'
     }
     y.copy_from_slice(rhs);
     if work.single {
-        subtract_guess(sub, work, k, c, (m, input.steps.0));
+        subtract_guess(sub, work, k, c, (m, input.steps.0), prev);
     }
 }
 
 /// rhs_m −= S g for the refinement of a single-precision solve (module doc): g the previous
 /// linear stage's v_m when it marched step m of the window starting at m0, else v_{m−1} from
-/// the state.
+/// `prev` or the state.
 fn subtract_guess(
     sub: &Substructure,
     work: &mut LinearWork,
     k: f64,
     c: &StepCoefficients,
     (m, m0): (usize, usize),
+    prev: Option<&SubState>,
 ) {
     let n = work.rhs_then_v.len();
     let LinearWork {
@@ -349,6 +388,7 @@ fn subtract_guess(
         state,
         ..
     } = work;
+    let state = prev.unwrap_or(state);
     let (g, ckg) = guesses.take(m, m0, (&state.v, &state.ckv));
     let (cm, ck) = sub.operator_coefficients(c);
     let scale = ck / c.stiffness;
@@ -400,6 +440,20 @@ pub fn complete(
     out: &mut TraceHistory,
     correction: Option<Correction<'_>>,
 ) -> IndicatorSums {
+    complete_from(sub, work, input, m, out, correction, None)
+}
+
+/// [`complete`] from the state at m − 1 in `prev` (after [`form_rhs_from`] with it): the
+/// work's state becomes the state at m without having held the one before.
+pub fn complete_from(
+    sub: &Substructure,
+    work: &mut LinearWork,
+    input: &LinearInput<'_>,
+    m: usize,
+    out: &mut TraceHistory,
+    correction: Option<Correction<'_>>,
+    prev: Option<&SubState>,
+) -> IndicatorSums {
     let (k, c) = (input.k, &input.time);
     let single = work.single;
     let LinearWork {
@@ -427,8 +481,9 @@ pub fn complete(
     let mut sums = IndicatorSums::default();
     // rhs now holds v_m; y becomes (c_K + β) K v_m = rhs_m − (c_M + α) M v_m − k BᵀAB v_m
     let (cm, ck) = sub.operator_coefficients(c);
-    for i in 0..n {
-        y[i] -= cm * sub.mass[i] * rhs[i];
+    let mass = &sub.mass[..n];
+    for (yi, (&mi, &vi)) in y[..n].iter_mut().zip(mass.iter().zip(&rhs[..n])) {
+        *yi -= cm * mi * vi;
     }
     let r = out.at(m);
     for j in 0..sub.trace_len() {
@@ -452,20 +507,10 @@ pub fn complete(
     }
     // K u_m = K u + d_V K v + d_A K a + c_K K v_m; K a_m = e_V K (v_m − v) − e_A K a (carried
     // only for a dissipative scheme; the trapezoidal rule keeps its formulas as written)
-    let (ratio, dk) = (c.u_from_v / c.stiffness, c.a_from_dv / c.stiffness);
-    for i in 0..n {
-        let v_new = rhs[i];
-        let (u_new, a_new) = c.advance(state.u[i], state.v[i], state.a[i], v_new);
-        state.u[i] = u_new;
-        state.v[i] = v_new;
-        state.a[i] = a_new;
-        if c.trapezoidal {
-            state.ku[i] += state.ckv[i] + y[i];
-        } else {
-            state.ku[i] += ratio * state.ckv[i] + c.u_from_a * state.ka[i] + y[i];
-            state.ka[i] = dk * (y[i] - state.ckv[i]) - c.a_from_a * state.ka[i];
-        }
-        state.ckv[i] = y[i];
+    if c.trapezoidal {
+        advance_all::<true>(c, state, prev, rhs, y);
+    } else {
+        advance_all::<false>(c, state, prev, rhs, y);
     }
     if single {
         // the next linear stage's guess of this step
@@ -473,6 +518,80 @@ pub fn complete(
         guesses.store(m, input.steps.0, &state.v, &state.ckv);
     }
     sums
+}
+
+/// The state at m in `next` from the one at m − 1 (`prev`, else `next` itself), v_m (`v_new`)
+/// and c_K K v_m (`y`), dof by dof ([`advance_dof`]), for a scheme known to be the trapezoidal
+/// rule or not: slices of one length and no branch, so that the loop runs in vector registers.
+#[inline(always)]
+fn advance_all<const TRAPEZOIDAL: bool>(
+    c: &StepCoefficients,
+    next: &mut SubState,
+    prev: Option<&SubState>,
+    v_new: &[f64],
+    y: &[f64],
+) {
+    let n = v_new.len();
+    let (c, ka_len) = (*c, if TRAPEZOIDAL { 0 } else { n });
+    let carried = (c.u_from_v / c.stiffness, c.a_from_dv / c.stiffness);
+    let (v_new, y) = (&v_new[..n], &y[..n]);
+    let SubState {
+        u,
+        v,
+        a,
+        ku,
+        ckv,
+        ka,
+    } = next;
+    let (u, v, a) = (&mut u[..n], &mut v[..n], &mut a[..n]);
+    let (ku, ckv, ka) = (&mut ku[..n], &mut ckv[..n], &mut ka[..ka_len]);
+    match prev {
+        None => {
+            for i in 0..n {
+                let ka_i = if TRAPEZOIDAL { 0.0 } else { ka[i] };
+                let from = [u[i], v[i], a[i], ku[i], ckv[i], ka_i];
+                let to = advance_dof::<TRAPEZOIDAL>(&c, carried, from, v_new[i], y[i]);
+                [u[i], v[i], a[i], ku[i], ckv[i]] = [to[0], to[1], to[2], to[3], to[4]];
+                if !TRAPEZOIDAL {
+                    ka[i] = to[5];
+                }
+            }
+        }
+        Some(p) => {
+            let (pu, pv, pa) = (&p.u[..n], &p.v[..n], &p.a[..n]);
+            let (pku, pckv, pka) = (&p.ku[..n], &p.ckv[..n], &p.ka[..ka_len]);
+            for i in 0..n {
+                let ka_i = if TRAPEZOIDAL { 0.0 } else { pka[i] };
+                let from = [pu[i], pv[i], pa[i], pku[i], pckv[i], ka_i];
+                let to = advance_dof::<TRAPEZOIDAL>(&c, carried, from, v_new[i], y[i]);
+                [u[i], v[i], a[i], ku[i], ckv[i]] = [to[0], to[1], to[2], to[3], to[4]];
+                if !TRAPEZOIDAL {
+                    ka[i] = to[5];
+                }
+            }
+        }
+    }
+}
+
+/// One dof's (u, v, a, K u, c_K K v, K a) at m from those at m − 1, v_m and c_K K v_m (`y`),
+/// with `(ratio, dk)` = (d_V / c_K, e_V / c_K): the Newmark update and the carried products of
+/// the module doc (K a only for a dissipative scheme; the trapezoidal rule's formulas as written).
+#[inline(always)]
+fn advance_dof<const TRAPEZOIDAL: bool>(
+    c: &StepCoefficients,
+    (ratio, dk): (f64, f64),
+    [u, v, a, ku, ckv, ka]: [f64; 6],
+    v_new: f64,
+    y: f64,
+) -> [f64; 6] {
+    let (u_new, a_new) = c.advance_as::<TRAPEZOIDAL>(u, v, a, v_new);
+    if TRAPEZOIDAL {
+        [u_new, v_new, a_new, ku + (ckv + y), y, ka]
+    } else {
+        let ku_new = ku + (ratio * ckv + c.u_from_a * ka + y);
+        let ka_new = dk * (y - ckv) - c.a_from_a * ka;
+        [u_new, v_new, a_new, ku_new, y, ka_new]
+    }
 }
 
 #[cfg(test)]

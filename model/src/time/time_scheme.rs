@@ -180,6 +180,23 @@ impl StepCoefficients {
     #[inline]
     pub fn advance(&self, u: f64, v: f64, a: f64, v_new: f64) -> (f64, f64) {
         if self.trapezoidal {
+            self.advance_as::<true>(u, v, a, v_new)
+        } else {
+            self.advance_as::<false>(u, v, a, v_new)
+        }
+    }
+
+    /// [`Self::advance`] for a scheme known to be the trapezoidal rule (`TRAPEZOIDAL`) or not,
+    /// so that a loop over dofs carries no branch.
+    #[inline(always)]
+    pub fn advance_as<const TRAPEZOIDAL: bool>(
+        &self,
+        u: f64,
+        v: f64,
+        a: f64,
+        v_new: f64,
+    ) -> (f64, f64) {
+        if TRAPEZOIDAL {
             (
                 u + 0.5 * self.dt * (v + v_new),
                 self.a_from_dv * (v_new - v) - a,
