@@ -71,7 +71,7 @@ impl Estimate {
             .map(|s| {
                 // shared stiffness matrices count once
                 let k = if seen.insert(std::sync::Arc::as_ptr(&s.stiffness)) {
-                    s.stiffness.nnz() * 2 * F64
+                    s.stiffness.bytes()
                 } else {
                     0
                 };

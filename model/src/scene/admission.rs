@@ -527,11 +527,13 @@ fn group_sizes(g: &PieceGroup, precision: FactorPrecision) -> Option<GroupSizes>
     let node_dims = g.div.map(|d| d.saturating_add(1));
     let per_piece_nodes = product(node_dims)?;
     let ndof = per_piece_nodes.checked_mul(3)?;
-    // stiffness in full CSC: 9 entries per pair of neighbouring nodes, once per group; mass,
-    // linear-stage work and window-start vectors (13 per dof) per substructure
+    // stiffness: its lower triangle (of 9 entries per pair of neighbouring nodes) in CSC with
+    // 32-bit row indices, once per group; mass, linear-stage work and window-start vectors (13
+    // per dof) per substructure
     let nnz = product(g.div.map(|d| d.saturating_mul(3).saturating_add(1)))?.checked_mul(9)?;
-    let operator_bytes = nnz
-        .saturating_mul(if g.own_stiffness { 2 * F64 } else { 0 })
+    let lower = nnz.saturating_add(ndof) / 2;
+    let operator_bytes = lower
+        .saturating_mul(if g.own_stiffness { F64 + 4 } else { 0 })
         .saturating_add(g.count.saturating_mul(ndof).saturating_mul(13 * F64));
     // the factor of S per expected distinct factorization: a band of the two smallest node
     // layers, or the n^(4/3) growth of nested dissection on large 3D meshes (35 n^(4/3): 19.8 M

@@ -108,16 +108,11 @@ impl Assembled {
                     damping_triplets.push(Triplet::new(g, g, d.alpha * m));
                 }
             }
-            let k = sub.stiffness.as_faer();
-            let (cp, ri, val) = (k.symbolic().col_ptr(), k.symbolic().row_idx(), k.val());
-            for j in 0..sub.ndof() {
-                let gj = numbering.dof(s, j);
-                for p in cp[j]..cp[j + 1] {
-                    let gi = numbering.dof(s, ri[p]);
-                    triplets.push(Triplet::new(gi, gj, val[p]));
-                    if d.beta != 0.0 {
-                        damping_triplets.push(Triplet::new(gi, gj, d.beta * val[p]));
-                    }
+            for (i, j, v) in sub.stiffness.entries() {
+                let (gi, gj) = (numbering.dof(s, i), numbering.dof(s, j));
+                triplets.push(Triplet::new(gi, gj, v));
+                if d.beta != 0.0 {
+                    damping_triplets.push(Triplet::new(gi, gj, d.beta * v));
                 }
             }
         }
