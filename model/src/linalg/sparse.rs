@@ -119,8 +119,8 @@ impl SymmetricMatrix {
         })
     }
 
-    /// Iterates every entry of both triangles as (row, col, value), column by column, the
-    /// lower triangle's first.
+    /// Iterates every entry of both triangles as (row, col, value): the lower triangle's in
+    /// the order of [`Self::lower_entries`], each off-diagonal one followed by its mirror.
     pub fn entries(&self) -> impl Iterator<Item = (usize, usize, f64)> + '_ {
         self.lower_entries()
             .flat_map(|(i, j, v)| std::iter::once((i, j, v)).chain((i != j).then_some((j, i, v))))
