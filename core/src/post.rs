@@ -360,7 +360,7 @@ pub fn replay_blocks<T: Send>(
                 .zip(&mut visitors)
                 .zip(members)
             {
-                complete(&p.subs[i], work, &input, m, out, None);
+                complete(&p.subs[i], work, &input, m, out, None, None);
                 let r = out.at(m);
                 visit(visitor, m, &work.state, &out.f[r.clone()], &out.w[r]);
             }

@@ -21,7 +21,7 @@ use crate::linalg::factor::{CholeskyFactor, SolveScratch};
 use crate::macro_scale::operator_classes::Classes;
 use crate::par;
 use crate::stages::indicator::IndicatorSums;
-use crate::stages::linear_stage::{add_guess, complete_from, form_rhs_from, LinearWork};
+use crate::stages::linear_stage::{add_guess, complete, form_rhs_from, LinearWork};
 use crate::state::TraceHistory;
 
 /// The widest block: past it a column costs little less and the blocks get too few to share
@@ -230,7 +230,7 @@ fn march_block(members: &mut [Member<'_>], width: Option<usize>, inputs: &[Batch
                 let m = input.lin.steps.0 + step;
                 let prev = (step == 0).then(|| &input.starts[*i]);
                 let sub = &input.ops.subs[*i];
-                let sums = complete_from(sub, &mut b.work, &input.lin, m, out, None, prev);
+                let sums = complete(sub, &mut b.work, &input.lin, m, out, None, prev);
                 b.sums.add(sums);
             }
         }

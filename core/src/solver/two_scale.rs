@@ -72,7 +72,7 @@ impl TwoScaleSub {
             alpha: &self.macro_local,
             macro_trace: &self.trace,
         };
-        self.sums = complete(sub, &mut self.work, lin, m, out, Some(correction));
+        self.sums = complete(sub, &mut self.work, lin, m, out, Some(correction), None);
     }
 }
 

@@ -271,7 +271,7 @@ pub fn march(
     let mut sums = IndicatorSums::default();
     for m in m0..=m1 {
         solve(sub, factor, work, input, m);
-        sums.add(complete(sub, work, input, m, out, None));
+        sums.add(complete(sub, work, input, m, out, None, None));
         if let Some(f) = visit.as_mut() {
             let r = out.at(m);
             f(m, &work.state, &out.f[r.clone()], &out.w[r]);
@@ -319,7 +319,7 @@ pub fn form_rhs(sub: &Substructure, work: &mut LinearWork, input: &LinearInput<'
 }
 
 /// [`form_rhs`] from the state at m − 1 in `prev` instead of the work's own state (the first
-/// step of a window, whose start the march then need not copy; [`complete_from`] ends it).
+/// step of a window, whose start the march then need not copy; [`complete`] with it ends it).
 pub fn form_rhs_from(
     sub: &Substructure,
     work: &mut LinearWork,
@@ -431,21 +431,9 @@ pub struct Correction<'a> {
 
 /// Ends step m after [`predict`]: applies the macro correction if any, writes W_m = B v_m and
 /// F_m = F̂_m + k (Ŵ_m [+ Ê α] − W_m) into `out`, updates (u, v, a) (METHOD §2) and returns this
-/// step's η sums (METHOD §6).
+/// step's η sums (METHOD §6). With `prev` (after [`form_rhs_from`] with it) the state at m − 1
+/// is read from there and the work's state becomes the state at m without having held it.
 pub fn complete(
-    sub: &Substructure,
-    work: &mut LinearWork,
-    input: &LinearInput<'_>,
-    m: usize,
-    out: &mut TraceHistory,
-    correction: Option<Correction<'_>>,
-) -> IndicatorSums {
-    complete_from(sub, work, input, m, out, correction, None)
-}
-
-/// [`complete`] from the state at m − 1 in `prev` (after [`form_rhs_from`] with it): the
-/// work's state becomes the state at m without having held the one before.
-pub fn complete_from(
     sub: &Substructure,
     work: &mut LinearWork,
     input: &LinearInput<'_>,
@@ -545,30 +533,26 @@ fn advance_all<const TRAPEZOIDAL: bool>(
     } = next;
     let (u, v, a) = (&mut u[..n], &mut v[..n], &mut a[..n]);
     let (ku, ckv, ka) = (&mut ku[..n], &mut ckv[..n], &mut ka[..ka_len]);
-    match prev {
-        None => {
+    // the loop over dofs, reading the state at m − 1 from the given slices
+    macro_rules! advance_from {
+        ($u0:expr, $v0:expr, $a0:expr, $ku0:expr, $ckv0:expr, $ka0:expr) => {
             for i in 0..n {
-                let ka_i = if TRAPEZOIDAL { 0.0 } else { ka[i] };
-                let from = [u[i], v[i], a[i], ku[i], ckv[i], ka_i];
+                let ka_i = if TRAPEZOIDAL { 0.0 } else { $ka0[i] };
+                let from = [$u0[i], $v0[i], $a0[i], $ku0[i], $ckv0[i], ka_i];
                 let to = advance_dof::<TRAPEZOIDAL>(&c, carried, from, v_new[i], y[i]);
                 [u[i], v[i], a[i], ku[i], ckv[i]] = [to[0], to[1], to[2], to[3], to[4]];
                 if !TRAPEZOIDAL {
                     ka[i] = to[5];
                 }
             }
-        }
+        };
+    }
+    match prev {
+        None => advance_from!(u, v, a, ku, ckv, ka),
         Some(p) => {
             let (pu, pv, pa) = (&p.u[..n], &p.v[..n], &p.a[..n]);
             let (pku, pckv, pka) = (&p.ku[..n], &p.ckv[..n], &p.ka[..ka_len]);
-            for i in 0..n {
-                let ka_i = if TRAPEZOIDAL { 0.0 } else { pka[i] };
-                let from = [pu[i], pv[i], pa[i], pku[i], pckv[i], ka_i];
-                let to = advance_dof::<TRAPEZOIDAL>(&c, carried, from, v_new[i], y[i]);
-                [u[i], v[i], a[i], ku[i], ckv[i]] = [to[0], to[1], to[2], to[3], to[4]];
-                if !TRAPEZOIDAL {
-                    ka[i] = to[5];
-                }
-            }
+            advance_from!(pu, pv, pa, pku, pckv, pka)
         }
     }
 }
