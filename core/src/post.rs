@@ -342,7 +342,7 @@ pub fn replay_blocks<T: Send>(
             // a single-precision factor's solve refined once more (as [`predict_refined`])
             for pass in 0..2 {
                 for (work, &i) in works.iter_mut().zip(members) {
-                    form_rhs(&p.subs[i], work, &input, m);
+                    form_rhs(&p.subs[i], work, &input, m, None);
                 }
                 solve_together(factor, works.iter_mut(), *width, &mut block, &mut scratch);
                 let mut again = false;

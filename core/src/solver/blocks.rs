@@ -21,7 +21,7 @@ use crate::linalg::factor::{CholeskyFactor, SolveScratch};
 use crate::macro_scale::operator_classes::Classes;
 use crate::par;
 use crate::stages::indicator::IndicatorSums;
-use crate::stages::linear_stage::{add_guess, complete, form_rhs_from, LinearWork};
+use crate::stages::linear_stage::{add_guess, complete, form_rhs, LinearWork};
 use crate::state::TraceHistory;
 
 /// The widest block: past it a column costs little less and the blocks get too few to share
@@ -181,12 +181,9 @@ fn march_block(members: &mut [Member<'_>], width: Option<usize>, inputs: &[Batch
                 continue;
             }
         }
-        // the march writes the work's state from the start's first step on (no copy), into
-        // vectors of the start's sizes
-        let start = &input.starts[*i];
-        if !b.work.state.same_shape(start) {
-            b.work.state.clone_from(start);
-        }
+        // the march writes the work's state from the start's first step on (no copy): both
+        // were made for the solver's one time scheme (a new scheme makes new works)
+        debug_assert_eq!(b.work.state.ka.len(), input.starts[*i].ka.len());
         b.sums = IndicatorSums::default();
         b.skipped = false;
         marching.push(j);
@@ -212,7 +209,7 @@ fn march_block(members: &mut [Member<'_>], width: Option<usize>, inputs: &[Batch
                 let m = input.lin.steps.0 + step;
                 // the first step reads the window's start, which the work's state then replaces
                 let prev = (step == 0).then(|| &input.starts[*i]);
-                form_rhs_from(&input.ops.subs[*i], &mut b.work, &input.lin, m, prev);
+                form_rhs(&input.ops.subs[*i], &mut b.work, &input.lin, m, prev);
             }
         }
         // one pass through the factor for every member marching this step

@@ -313,7 +313,7 @@ fn predict_together(
         let input = &inputs[c];
         let sub: &Substructure = &input.ops.subs[i];
         let work = &mut batch.members[c].0.work;
-        form_rhs(sub, work, &input.lin, input.lin.steps.0 + step);
+        form_rhs(sub, work, &input.lin, input.lin.steps.0 + step, None);
     }
     let works = batch
         .members

@@ -55,22 +55,6 @@ pub struct SubState {
 }
 
 impl SubState {
-    /// Whether `other`'s vectors have this state's lengths (a march may then write this state
-    /// from `other` without copying it first).
-    pub fn same_shape(&self, other: &SubState) -> bool {
-        let lengths = |s: &SubState| {
-            [
-                s.u.len(),
-                s.v.len(),
-                s.a.len(),
-                s.ku.len(),
-                s.ckv.len(),
-                s.ka.len(),
-            ]
-        };
-        lengths(self) == lengths(other)
-    }
-
     /// The initial state: u₀ = 0 (or the preload's static displacement, in equilibrium with its
     /// interface tractions F₀), v₀ given, a₀ = M⁻¹(f_ext,0 − K u₀ + Bᵀ A F₀ − C v₀) = −M⁻¹ C v₀
     /// (no body load; 0 without damping).
@@ -290,7 +274,7 @@ pub fn predict(
     input: &LinearInput<'_>,
     m: usize,
 ) {
-    form_rhs(sub, work, input, m);
+    form_rhs(sub, work, input, m, None);
     work.solve_in_place(factor);
     add_guess(work);
 }
@@ -314,13 +298,10 @@ pub fn predict_refined(
 /// [`LinearWork::rhs_mut`] (less S g for a single-precision factor), where a caller solving
 /// several right-hand sides through one pass of the factor puts the solution back and calls
 /// [`add_guess`] before [`complete`].
-pub fn form_rhs(sub: &Substructure, work: &mut LinearWork, input: &LinearInput<'_>, m: usize) {
-    form_rhs_from(sub, work, input, m, None);
-}
-
-/// [`form_rhs`] from the state at m − 1 in `prev` instead of the work's own state (the first
+///
+/// With `prev` the state at m − 1 is read from there instead of the work's own state (the first
 /// step of a window, whose start the march then need not copy; [`complete`] with it ends it).
-pub fn form_rhs_from(
+pub fn form_rhs(
     sub: &Substructure,
     work: &mut LinearWork,
     input: &LinearInput<'_>,
@@ -431,7 +412,7 @@ pub struct Correction<'a> {
 
 /// Ends step m after [`predict`]: applies the macro correction if any, writes W_m = B v_m and
 /// F_m = F̂_m + k (Ŵ_m [+ Ê α] − W_m) into `out`, updates (u, v, a) (METHOD §2) and returns this
-/// step's η sums (METHOD §6). With `prev` (after [`form_rhs_from`] with it) the state at m − 1
+/// step's η sums (METHOD §6). With `prev` (after [`form_rhs`] with it) the state at m − 1
 /// is read from there and the work's state becomes the state at m without having held it.
 pub fn complete(
     sub: &Substructure,
