@@ -17,11 +17,19 @@ use faer::sparse::linalg::cholesky::{
 use faer::sparse::{SparseColMat, Triplet};
 use faer::{Conj, MatMut, Par, Side};
 
+use super::supernodal_solve::{solve_columns, Buffers};
+
 /// Substructures with at least this many nodes (three dofs each) have factors large enough for
 /// their solves to be bound by memory traffic: nested dissection orders them
 /// ([`super::ordering`]) and [`crate::scene::settings::FactorPrecision::Auto`] keeps them in
 /// single precision.
 pub const LARGE_NODES: usize = 3000;
+
+/// Up to this many right-hand sides, a supernodal factor is solved by
+/// [`super::supernodal_solve`], which reads each entry of L once and uses it for every column;
+/// more columns go through faer's blocked solve, whose matrix products (a copy of each
+/// supernode's block, then kernels of many columns) win once the columns are many.
+const STREAMED_COLUMNS: usize = 4;
 
 /// A numeric LLᵀ factor of an SPD sparse matrix.
 #[derive(Debug)]
@@ -47,14 +55,24 @@ pub struct SolveScratch {
     /// The right-hand sides in single precision (a single-precision factor's solves).
     #[cfg_attr(target_arch = "wasm32", allow(dead_code))]
     single: Vec<f32>,
+    /// The buffers of a supernodal factor's solves, in either precision.
+    supernodal: Buffers<f64>,
+    #[cfg_attr(target_arch = "wasm32", allow(dead_code))]
+    supernodal_single: Buffers<f32>,
 }
 
 impl SolveScratch {
     /// No scratch: the buffers of a substructure held by another rank, never solved here.
     pub fn none() -> Self {
+        Self::with_buffer(MemBuffer::new(faer::dyn_stack::StackReq::empty()))
+    }
+
+    fn with_buffer(buffer: MemBuffer) -> Self {
         Self {
-            buffer: MemBuffer::new(faer::dyn_stack::StackReq::empty()),
+            buffer,
             single: Vec::new(),
+            supernodal: Buffers::default(),
+            supernodal_single: Buffers::default(),
         }
     }
 }
@@ -182,19 +200,22 @@ impl CholeskyFactor {
     /// ([`Self::solve_columns_in_place`]).
     pub fn scratch_for(&self, ncols: usize) -> SolveScratch {
         let ncols = ncols.max(1);
+        if ncols <= STREAMED_COLUMNS
+            && matches!(self.symbolic.raw(), SymbolicCholeskyRaw::Supernodal(_))
+        {
+            // the streamed solve's buffers grow on first use
+            return SolveScratch::none();
+        }
         match &self.values {
-            Values::Double(_) => SolveScratch {
-                buffer: MemBuffer::new(
-                    self.symbolic.solve_in_place_scratch::<f64>(ncols, Par::Seq),
-                ),
-                single: Vec::new(),
-            },
+            Values::Double(_) => SolveScratch::with_buffer(MemBuffer::new(
+                self.symbolic.solve_in_place_scratch::<f64>(ncols, Par::Seq),
+            )),
             #[cfg(not(target_arch = "wasm32"))]
             Values::Single(_) => SolveScratch {
-                buffer: MemBuffer::new(
-                    self.symbolic.solve_in_place_scratch::<f32>(ncols, Par::Seq),
-                ),
                 single: vec![0.0; self.n * ncols],
+                ..SolveScratch::with_buffer(MemBuffer::new(
+                    self.symbolic.solve_in_place_scratch::<f32>(ncols, Par::Seq),
+                ))
             },
         }
     }
@@ -210,6 +231,26 @@ impl CholeskyFactor {
     /// the factor (the factor is read once for all columns), with scratch from
     /// [`Self::scratch_for`] of at least `ncols` columns.
     pub fn solve_columns_in_place(&self, x: &mut [f64], ncols: usize, scratch: &mut SolveScratch) {
+        if let (SymbolicCholeskyRaw::Supernodal(symbolic), true) =
+            (self.symbolic.raw(), ncols <= STREAMED_COLUMNS)
+        {
+            let perm = self.symbolic.perm().map(|p| p.arrays());
+            match &self.values {
+                Values::Double(values) => {
+                    solve_columns(symbolic, perm, values, x, ncols, &mut scratch.supernodal)
+                }
+                #[cfg(not(target_arch = "wasm32"))]
+                Values::Single(values) => solve_columns(
+                    symbolic,
+                    perm,
+                    values,
+                    x,
+                    ncols,
+                    &mut scratch.supernodal_single,
+                ),
+            }
+            return;
+        }
         match &self.values {
             Values::Double(values) => {
                 let rhs = MatMut::from_column_major_slice_mut(x, self.n, ncols);
