@@ -1,7 +1,8 @@
 //! Sparse Cholesky factorization of a substructure operator, computed once and reused for every
 //! solve (METHOD §4: S is SPD and constant; §11: factorize once, one forward/back solve per step).
 //! Symbolic analysis (in the order of [`super::ordering`]) and numeric factorization are faer's;
-//! the solve scratch is allocated once.
+//! so are the solves of a simplicial factor and of more than four columns, the others are
+//! [`super::supernodal_solve`]'s; the solve scratch is allocated once.
 //! The factor is computed and kept in double precision, or in single
 //! ([`CholeskyFactor::try_new_single`]: half the memory, the factorization's own included, and
 //! half the bytes each solve reads; the solution accurate to the rounding of single precision

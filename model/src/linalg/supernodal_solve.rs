@@ -225,29 +225,21 @@ impl<T: Entry> Substitutions<'_, T> {
         below.clear();
         below.resize(m * ncols, T::default());
         // four columns of L at a time: each row of `below` read and written once per four
+        let under = |c: usize| &block[c * rows + size..(c + 1) * rows];
         let mut c = 0;
         while c + 4 <= size {
-            let l0 = &block[c * rows + size..(c + 1) * rows];
-            let l1 = &block[(c + 1) * rows + size..(c + 2) * rows];
-            let l2 = &block[(c + 2) * rows + size..(c + 3) * rows];
-            let l3 = &block[(c + 3) * rows + size..(c + 4) * rows];
+            let l = [under(c), under(c + 1), under(c + 2), under(c + 3)];
             for j in 0..ncols {
                 let top = &y[j * n + start + c..j * n + start + c + 4];
-                let (v0, v1, v2, v3) = (top[0], top[1], top[2], top[3]);
-                T::update4(
-                    simd,
-                    &mut below[j * m..(j + 1) * m],
-                    [l0, l1, l2, l3],
-                    [v0, v1, v2, v3],
-                );
+                let v = [top[0], top[1], top[2], top[3]];
+                T::update4(simd, &mut below[j * m..(j + 1) * m], l, v);
             }
             c += 4;
         }
         while c < size {
-            let l0 = &block[c * rows + size..(c + 1) * rows];
             for j in 0..ncols {
-                let v0 = y[j * n + start + c];
-                T::update1(simd, &mut below[j * m..(j + 1) * m], l0, v0);
+                let v = y[j * n + start + c];
+                T::update1(simd, &mut below[j * m..(j + 1) * m], under(c), v);
             }
             c += 1;
         }
