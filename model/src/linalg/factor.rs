@@ -1,8 +1,8 @@
 //! Sparse Cholesky factorization of a substructure operator, computed once and reused for every
 //! solve (METHOD §4: S is SPD and constant; §11: factorize once, one forward/back solve per step).
 //! Symbolic analysis (in the order of [`super::ordering`]) and numeric factorization are faer's;
-//! so are the solves of a simplicial factor and of more than four columns, the others are
-//! [`super::supernodal_solve`]'s; the solve scratch is allocated once.
+//! so are the solves of a simplicial factor and of several columns; a supernodal factor's
+//! solves of one column are [`super::supernodal_solve`]'s; the solve scratch is allocated once.
 //! The factor is computed and kept in double precision, or in single
 //! ([`CholeskyFactor::try_new_single`]: half the memory, the factorization's own included, and
 //! half the bytes each solve reads; the solution accurate to the rounding of single precision
@@ -27,10 +27,11 @@ use super::supernodal_solve::{solve_columns, Buffers};
 pub const LARGE_NODES: usize = 3000;
 
 /// Up to this many right-hand sides, a supernodal factor is solved by
-/// [`super::supernodal_solve`], which reads each entry of L once and uses it for every column;
-/// more columns go through faer's blocked solve, whose matrix products (a copy of each
-/// supernode's block, then kernels of many columns) win once the columns are many.
-const STREAMED_COLUMNS: usize = 4;
+/// [`super::supernodal_solve`], whose vectorized substitutions beat faer's matrix–vector
+/// products on one column; more columns go through faer's blocked solve, whose matrix products
+/// (a copy of each supernode's block, then kernels that keep several columns in registers) are
+/// faster from two columns on.
+const STREAMED_COLUMNS: usize = 1;
 
 /// A numeric LLᵀ factor of an SPD sparse matrix.
 #[derive(Debug)]

@@ -1,5 +1,6 @@
 //! The forward and back substitution through a supernodal LLᵀ factor for one or several
-//! right-hand sides at once (METHOD §4, §11: one pass through the factor per step). Each entry
+//! right-hand sides at once (METHOD §4, §11: one pass through the factor per step; the factor
+//! solves single columns here, several with faer's blocked solve). Each entry
 //! of L is read from memory once per solve whatever the number of columns, and used for every
 //! column while it is in cache: the solve of a few columns is bound by the bytes of the factor,
 //! as that of one column is, without the copies of L that a general matrix product makes of
