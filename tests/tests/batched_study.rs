@@ -6,8 +6,8 @@
 //! several, on one-step windows and over the whole interval with its skip cache, warm and
 //! cold), on the two-scale stage as on the single-scale one, both in one batch; a study in
 //! batches gives each configuration the iterations (within one) and quantities (to the
-//! tolerance) of the same chains solved one at a time. The end energies a single-scale solve keeps
-//! (`core/src/solver/end_energy.rs`) are those of a replay, bit for bit.
+//! tolerance) of the same chains solved one at a time. The end energies a single-scale solve
+//! keeps (`core/src/solver/end_energy.rs`) are those of a replay, bit for bit.
 
 use lopin_core::post;
 use lopin_core::scene;
@@ -212,8 +212,8 @@ fn study(
 /// of interest to the tolerance, 1e-4 (a lane's multi-column solve rounds differently from a
 /// lone solve: a window whose η lands that close to the tolerance stops one iteration apart, a
 /// warm window's start carries the converged steps on, and a slip at the threshold of the
-/// friction law can go the other way); on one-step windows and over the whole interval. Four lanes on three chains leave one idle; of two
-/// lanes, the first done takes the third chain.
+/// friction law can go the other way); on one-step windows and over the whole interval. Four
+/// lanes on three chains leave one idle; of two lanes, the first done takes the third chain.
 #[test]
 fn a_study_in_batches_matches_its_chains_solved_one_at_a_time() {
     for window in [Some(1), None] {

@@ -1,19 +1,18 @@
 //! `lopin bench --accuracy`: time to accuracy, the figure every speed change is judged by. For
 //! each case (a scene at a refinement) and each setting (the defaults of one cold solve; the
 //! same on windows of two steps, where a factor read for a step's solve is still in cache for
-//! the next; the same with every factor in double precision; the whole interval; the whole interval with the
-//! dissipative scheme ρ∞ = 0.5, the setting the guide documents as the fewest iterations), LATIN is solved at tolerances 1e-1 … 1e-8 and its
-//! nodal velocities over space–time compared with the converged solution of the same discrete
-//! problem (the same scheme on one-step windows at η < 1e-9, or 1e-8 or 1e-7 where rounding
-//! stops it above, at 1e-7 with [`REFERENCE_MAX_ITER`] iterations a window where the scene's own
-//! limit does not reach it; the table says which; solved once per case and scheme and shared by
-//! the settings of that scheme): the wall time and the CPU time
-//! (all threads) to reach a velocity error of 1e-3 and of 1e-6, setup included, are the first
-//! tolerance's that reaches it. Rows on windows of one or two steps are cold solves, one per
-//! tolerance;
-//! whole-interval rows form one chain, each tolerance continuing from the previous one's state,
-//! so a row's time is that of one solve stopped there. Printed as one table, written as JSON
-//! with `--json`.
+//! the next; the same with every factor in double precision; the whole interval; the whole
+//! interval with the dissipative scheme ρ∞ = 0.5, the setting the guide documents as the fewest
+//! iterations), LATIN is solved at tolerances 1e-1 … 1e-8 and its nodal velocities over
+//! space–time compared with the converged solution of the same discrete problem (the same
+//! scheme on one-step windows at η < 1e-9, or 1e-8 or 1e-7 where rounding stops it above, at
+//! 1e-7 with [`REFERENCE_MAX_ITER`] iterations a window where the scene's own limit does not
+//! reach it; the table says which; solved once per case and scheme and shared by the settings
+//! of that scheme): the wall time and the CPU time (all threads) to reach a velocity error of
+//! 1e-3 and of 1e-6, setup included, are the first tolerance's that reaches it. Rows on windows
+//! of one or two steps are cold solves, one per tolerance; whole-interval rows form one chain,
+//! each tolerance continuing from the previous one's state, so a row's time is that of one
+//! solve stopped there. Printed as one table, written as JSON with `--json`.
 
 use lopin_core::counters::Instant;
 use lopin_core::scene::settings::FactorPrecision;
