@@ -7,7 +7,7 @@
 
 use crate::layout::ControlRects;
 use crate::study_view::{Compare, StudyView};
-use egui::Color32;
+use egui::{Color32, RichText};
 use egui_plot::{Line, Plot, PlotPoints, Points, VLine};
 use lopin_core::study::Quantities;
 
@@ -37,6 +37,13 @@ pub fn show(
         });
 }
 
+/// A line of text that never wraps (cut short, whole on hover): the lines above the pin and
+/// compare controls change as the background study works, and a line that wrapped or unwrapped
+/// would move those controls under a pointer on its way to them.
+fn one_line(ui: &mut egui::Ui, text: RichText) -> egui::Response {
+    ui.add(egui::Label::new(text).truncate())
+}
+
 fn body(
     ui: &mut egui::Ui,
     study: &mut StudyView,
@@ -51,19 +58,25 @@ fn body(
     } else {
         0.0
     };
-    ui.label(format!(
-        "stored {} / {} ({label} {lo:.1}–{hi:.1}, step {step:.2})",
-        study.grid_stored(),
-        grid.len()
-    ));
+    one_line(
+        ui,
+        RichText::new(format!(
+            "stored {} / {} ({label} {lo:.1}–{hi:.1}, step {step:.2})",
+            study.grid_stored(),
+            grid.len()
+        )),
+    );
     let (states, pictures) = study.memory();
-    ui.label(format!(
-        "{} kept: {:.1} MiB ({:.1} states, {:.1} pictures)",
-        study.stored(),
-        mib(states + pictures),
-        mib(states),
-        mib(pictures)
-    ))
+    one_line(
+        ui,
+        RichText::new(format!(
+            "{} kept: {:.1} MiB ({:.1} states, {:.1} pictures)",
+            study.stored(),
+            mib(states + pictures),
+            mib(states),
+            mib(pictures)
+        )),
+    )
     .on_hover_text(
         "Each converged configuration keeps its interface state s and solution ŝ in f32 (a warm \
          start and every time step) and a picture (fields at the displayed step, contact \
@@ -78,7 +91,7 @@ fn body(
             format!("solving {label} = {} in the background", values.join(", "))
         }
     };
-    ui.weak(activity);
+    one_line(ui, RichText::new(activity).weak());
     ui.checkbox(&mut study.paused, "pause background study");
     let names = Quantities::NAMES;
     let q = study.quantity.min(names.len() - 1);

@@ -82,9 +82,11 @@ function control(st, name) {
 // Clicks a control where the page says it is now, until `predicate` holds (at most 5 clicks):
 // the left panel's layout moves while the background study works (a line appears or goes), so
 // a position read before the click may be stale by the time it lands. `at(box)` gives the point
-// to click in the control's box.
-async function clickUntil(page, name, at, predicate, what) {
+// to click in the control's box; `prepare`, if given, runs before each click (to restore a
+// state a stray click undid).
+async function clickUntil(page, name, at, predicate, what, prepare) {
   for (let attempt = 0; attempt < 5; attempt++) {
+    if (prepare) await prepare();
     const [x, y] = at(control(await status(page), name));
     await page.mouse.click(x, y);
     try {
@@ -339,20 +341,25 @@ async function main() {
     }
 
     // pin A (the current value), then side by side: A's viewport on the left, the current one
-    // on the right, both drawn (A from its stored picture, made at this step at once)
-    last = await clickUntil(
-      page,
-      "pin A",
-      (box) => [box[0] + box[2] / 2, box[1] + box[3] / 2],
-      () => document.getElementById("lopin-status").dataset.pinned !== "",
-      "pinning A"
-    );
+    // on the right, both drawn (A from its stored picture, made at this step at once); a click
+    // that landed elsewhere (on "unpin") pins A again before the next one
+    const pinA = async () => {
+      if ((await status(page)).pinned !== "") return;
+      await clickUntil(
+        page,
+        "pin A",
+        (box) => [box[0] + box[2] / 2, box[1] + box[3] / 2],
+        () => document.getElementById("lopin-status").dataset.pinned !== "",
+        "pinning A"
+      );
+    };
     last = await clickUntil(
       page,
       "side by side",
       (box) => [box[0] + 8, box[1] + box[3] / 2],
       () => document.getElementById("lopin-status").dataset.besideDrawn === "true",
-      "showing A side by side"
+      "showing A side by side",
+      pinA
     );
     await page.waitForTimeout(300);
     const left = rect(last.beside, "viewport of A");
