@@ -5,7 +5,8 @@
 //! precision) against itself and, against another value, is drawn on a symmetric range; side by
 //! side, the pinned configuration A and the current one B are drawn in two labelled viewports
 //! with one camera and the colour range both share, A following the time step even while the
-//! study is paused, and turning it off or unpinning gives one view back (with a snapshot).
+//! study is paused, and turning it off or unpinning gives one view back (with a snapshot); the
+//! pin and compare controls stay where they are while the background study works.
 
 use common::{harness, settle};
 use egui::Role;
@@ -75,6 +76,46 @@ fn a_slider_move_shows_the_nearest_stored_picture_at_once_then_converges() {
     settle(&mut h);
     let r = h.state().solve.reports().last().expect("a report").clone();
     assert!(r.from_store && r.iterations == 0, "{r:?}");
+}
+
+/// Where the pin and compare controls are, for the frame just drawn.
+fn pin_and_compare(h: &H) -> [egui::Rect; 3] {
+    let c = &h.state().layout.controls;
+    ["pin A", "side by side", "section"].map(|name| {
+        c.get(name)
+            .unwrap_or_else(|| panic!("no \"{name}\" control drawn"))
+    })
+}
+
+#[test]
+fn the_pin_and_compare_controls_stay_put_while_the_background_study_works() {
+    let mut h = harness("two-blocks");
+    settle(&mut h);
+    let at = pin_and_compare(&h);
+    // from its wait through four values at once (the line saying which is the longest) to done
+    let (mut idle, mut four) = (false, false);
+    let start = Instant::now();
+    while !h.state().study.complete() {
+        h.step();
+        let running = h.state().study.running().len();
+        idle |= running == 0;
+        four |= running >= 4;
+        assert_eq!(
+            pin_and_compare(&h),
+            at,
+            "the pin A, side by side and section controls moved with {running} value(s) solving"
+        );
+        assert!(
+            start.elapsed() < Duration::from_secs(120),
+            "the background study stored {} values",
+            h.state().study.grid_stored()
+        );
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    assert!(
+        idle && four,
+        "the study was seen idle ({idle}) and on four values ({four})"
+    );
 }
 
 #[test]
