@@ -6,14 +6,20 @@
 //!   30,000 dofs; it solves at its default settings with the energy balance kept
 //!   (E ≤ E0 + input work within 1e-3) and contact gaps closed to the tolerance's scale.
 //! * A small sample (3 grains, 15 mm tetrahedra, the matrix in 4 parts, ρ∞ = 0.5, 20 steps):
-//!   LATIN at η < 1e-9 against the monolithic reference, within 1e-6 (measured: velocity
-//!   6.0e-7, force 3.0e-7, in 16,883 whole-interval iterations).
+//!   LATIN at η < 1e-9 against the monolithic reference, within 1e-7 (measured: velocity
+//!   9.3e-9, force 4.2e-9, in 2,148 whole-interval iterations).
+//! * Where a cut between matrix parts meets a grain, the grain's nodes lie on two contacts or
+//!   more, and every one gives them the same normal; with it, `granular-poly` converges to
+//!   η < 1e-6 on one-step windows at its default iteration limit (measured: 1,951 iterations;
+//!   with a normal per contact, the window of step 13 stopped at the limit).
 //! * Bad tables are errors naming the field, before anything is meshed.
 
 use lopin_core::interfaces::interface::Law;
 use lopin_core::post;
 use lopin_core::scene::{self, SceneSpec};
+use lopin_core::Problem;
 use lopin_tests::{against_reference, solve, solve_problem};
+use std::collections::BTreeMap;
 
 fn granular_poly() -> SceneSpec {
     scene::registry::builtin("granular-poly").expect("registry scene")
@@ -94,9 +100,72 @@ fn a_small_polyhedral_sample_equals_the_reference() {
         c.rel_diff_force
     );
     assert!(
-        c.rel_diff_velocity < 1e-6 && c.rel_diff_force < 1e-6,
+        c.rel_diff_velocity < 1e-7 && c.rel_diff_force < 1e-7,
         "{c:?}"
     );
+}
+
+/// Every grain node on a contact, by (grain, node): the normal out of the grain from each
+/// contact interface that holds the node.
+fn grain_normals(problem: &Problem) -> BTreeMap<(String, usize), Vec<[f64; 3]>> {
+    let mut out: BTreeMap<(String, usize), Vec<[f64; 3]>> = BTreeMap::new();
+    for iface in &problem.interfaces {
+        let Law::Contact(c) = &iface.law else {
+            continue;
+        };
+        for (j, side) in iface.sides.iter().enumerate() {
+            let body = &problem.subs[side.sub].body;
+            if !body.starts_with("grain") {
+                continue;
+            }
+            // the normal points out of side 0
+            let sign = if j == 0 { 1.0 } else { -1.0 };
+            for (q, &node) in side.nodes.iter().enumerate() {
+                out.entry((body.clone(), node))
+                    .or_default()
+                    .push(c.normal[q].map(|x| sign * x));
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn a_grain_node_on_several_contacts_has_one_normal() {
+    // where a cut between matrix parts meets a grain, its nodes lie on two contacts or more:
+    // each gives them the same normal (that of all the contact faces around the node)
+    for parts in [8, 16] {
+        let mut spec = granular_poly();
+        spec.granular_poly
+            .as_mut()
+            .expect("table")
+            .matrix_substructures = parts;
+        let problem = scene::problem_of(&spec, &spec.name).unwrap_or_else(|e| panic!("{e}"));
+        let normals = grain_normals(&problem);
+        let shared = normals.values().filter(|n| n.len() > 1).count();
+        println!(
+            "matrix in {parts} parts: {} grain nodes on contact, {shared} on two contacts or more",
+            normals.len()
+        );
+        assert!(shared > 0, "no grain node on two contacts");
+        for (node, n) in &normals {
+            assert!(n.iter().all(|x| *x == n[0]), "{node:?}: {n:?}");
+        }
+    }
+}
+
+#[test]
+fn granular_poly_converges_to_tight_tolerances_at_its_default_settings() {
+    // one-step windows (the default of `lopin run` with contact) at η < 1e-6, each within the
+    // default limit of 2,000 iterations
+    let spec = granular_poly();
+    let (_, sol) = solve(&spec, |s| {
+        s.tol = 1e-6;
+        s.window = Some(1);
+    });
+    println!("granular-poly at η < 1e-6: {} iterations", sol.iterations);
+    assert!(sol.converged, "eta {}", sol.eta);
+    assert!(sol.iterations < 3_000, "{} iterations", sol.iterations);
 }
 
 #[test]

@@ -105,12 +105,15 @@ pub fn detect_interfaces_grouped(
     scene.check_conforming(&found.matched, max_search)?;
 
     let mortars = std::mem::take(&mut found.mortars);
-    Ok(found
+    let (mut interfaces, groups): (Vec<Interface>, Vec<usize>) = found
         .groups
         .into_iter()
         .flat_map(|((s, t), matches)| build_two_sided(subs, s, t, &matches, pair_rule(s, t)))
         .chain(mortars)
-        .collect())
+        .unzip();
+    let bodies: Vec<&str> = subs.iter().map(|s| s.body.as_str()).collect();
+    crate::interfaces::shared_normals::share_normals(&mut interfaces, &bodies);
+    Ok(interfaces.into_iter().zip(groups).collect())
 }
 
 /// The substructures with their boundary faces, bounding boxes (and their sweep along x), how

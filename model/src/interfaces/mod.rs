@@ -14,5 +14,6 @@ pub mod mortar;
 pub mod mortar_trace;
 pub mod non_matching;
 pub mod search_direction;
+pub mod shared_normals;
 pub mod surface_groups;
 pub mod zone;
