@@ -8,8 +8,12 @@
 //! pieces becomes a mode that turns the force a little and moves the velocities hardly at all,
 //! which LATIN converges very slowly. Here every node pair of such a piece whose node lies on
 //! several pieces of the same contact (the same substructure and node on one side, the same
-//! body on the other) takes the area-weighted normal of all those pieces' faces around it: the
-//! normal the uncut body's single interface gives it. A node on the contacts with two different
+//! body on the other) takes one normal: the mean of the pieces' normals there, each weighted by
+//! the node's area in its piece. (The uncut body's single interface would sum its faces'
+//! normals before normalizing; where a piece's faces around the node are not flat, its
+//! normalized normal weighted by its area is not that sum, so the two differ there and the
+//! shared normal still depends a little on where the cut runs.) A node on the contacts with
+//! two different
 //! bodies (a corner of a cell between two neighbours) keeps one normal per contact, and node
 //! pairs on one piece keep theirs bit for bit. Non-matching interfaces (a projected side) are
 //! left as they are.
@@ -19,8 +23,8 @@ use std::collections::HashMap;
 use crate::interfaces::interface::{Interface, Law};
 use crate::mesh::{norm, Vec3};
 
-/// Gives every contact node pair with a node on several pieces of one contact the area-weighted
-/// normal of those pieces' faces around that node (both nodes, if both are). `body[s]` is
+/// Gives every contact node pair with a node on several pieces of one contact the mean of those
+/// pieces' normals at the node, weighted by its area in each (both nodes, if both are). `body[s]` is
 /// substructure s's body. Interfaces with projected (non-matching) sides are left as they are.
 pub fn share_normals(interfaces: &mut [Interface], body: &[&str]) {
     // per (substructure, node, body across): the area-weighted normal pointing out of that
