@@ -11,6 +11,7 @@ use crate::interfaces::box_sweep::BoxSweep;
 use crate::interfaces::interface::{
     BoundaryDof, BoundaryLoad, Contact, DofLaw, Interface, Law, Side,
 };
+use crate::interfaces::shared_normals::SharedNormals;
 use crate::mesh::{dot, norm, sub, Face, Vec3};
 use crate::substructure::{SideRef, Substructure};
 
@@ -105,15 +106,24 @@ pub fn detect_interfaces_grouped(
     scene.check_conforming(&found.matched, max_search)?;
 
     let mortars = std::mem::take(&mut found.mortars);
-    let (mut interfaces, groups): (Vec<Interface>, Vec<usize>) = found
-        .groups
-        .into_iter()
-        .flat_map(|((s, t), matches)| build_two_sided(subs, s, t, &matches, pair_rule(s, t)))
-        .chain(mortars)
-        .unzip();
-    let bodies: Vec<&str> = subs.iter().map(|s| s.body.as_str()).collect();
-    crate::interfaces::shared_normals::share_normals(&mut interfaces, &bodies);
-    Ok(interfaces.into_iter().zip(groups).collect())
+    // the contact faces around each node, over every piece of its contact
+    let mut shared = SharedNormals::default();
+    for (piece, (&(s, t), matches)) in found.groups.iter().enumerate() {
+        if !matches!(pair_rule(s, t), PairRule::Contact { .. }) {
+            continue;
+        }
+        for m in matches {
+            let a = m.face.area / m.face.nodes.len() as f64;
+            for &(n1, n2) in &m.pairs {
+                let (first, second) = ((s, n1, &*subs[t].body), (t, n2, &*subs[s].body));
+                shared.add(piece, first, second, a, m.face.normal);
+            }
+        }
+    }
+    let pieces = found.groups.iter().flat_map(|(&(s, t), matches)| {
+        build_two_sided(subs, s, t, matches, pair_rule(s, t), &shared)
+    });
+    Ok(pieces.chain(mortars).collect())
 }
 
 /// The substructures with their boundary faces, bounding boxes (and their sweep along x), how
@@ -513,6 +523,7 @@ fn build_two_sided(
     t: usize,
     matches: &[FaceMatch],
     rule: PairRule,
+    shared: &SharedNormals,
 ) -> Vec<(Interface, usize)> {
     let mut nodes: BTreeMap<usize, PairedNode> = BTreeMap::new();
     for m in matches {
@@ -544,17 +555,18 @@ fn build_two_sided(
     }
     dealt
         .into_iter()
-        .map(|(group, members)| (two_sided(subs, s, t, &members, rule), group))
+        .map(|(group, members)| (two_sided(subs, (s, t), &members, rule, shared), group))
         .collect()
 }
 
-/// The interface between s and t on the side-1 nodes `members`, each with its data.
+/// The interface between s and t on the side-1 nodes `members`, each with its data; a node on
+/// several pieces of its contact takes the normal of all their faces (`shared`).
 fn two_sided(
     subs: &[Substructure],
-    s: usize,
-    t: usize,
+    (s, t): (usize, usize),
     members: &[(usize, &PairedNode)],
     rule: PairRule,
+    shared: &SharedNormals,
 ) -> Interface {
     let side1: Vec<usize> = members.iter().map(|m| m.0).collect();
     let side2: Vec<usize> = members.iter().map(|m| m.1.other).collect();
@@ -569,10 +581,13 @@ fn two_sided(
             start_gap: None,
             normal: members
                 .iter()
-                .map(|m| {
-                    let v = m.1.normal;
-                    let l = norm(v);
-                    [v[0] / l, v[1] / l, v[2] / l]
+                .map(|&(n1, m)| {
+                    let pair = ((s, n1, &*subs[t].body), (t, m.other, &*subs[s].body));
+                    shared.normal(pair.0, pair.1).unwrap_or_else(|| {
+                        let v = m.normal;
+                        let l = norm(v);
+                        [v[0] / l, v[1] / l, v[2] / l]
+                    })
                 })
                 .collect(),
         }),
