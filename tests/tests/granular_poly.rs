@@ -7,11 +7,12 @@
 //!   (E ≤ E0 + input work within 1e-3) and contact gaps closed to the tolerance's scale.
 //! * A small sample (3 grains, 15 mm tetrahedra, the matrix in 4 parts, ρ∞ = 0.5, 20 steps):
 //!   LATIN at η < 1e-9 against the monolithic reference, within 1e-7 (measured: velocity
-//!   9.3e-9, force 4.2e-9, in 2,148 whole-interval iterations).
+//!   7.9e-9, force 3.2e-9, in 910 whole-interval iterations).
 //! * Where a cut between matrix parts meets a grain, the grain's nodes lie on two contacts or
-//!   more, and every one gives them the same normal; with it, `granular-poly` converges to
-//!   η < 1e-6 on one-step windows at its default iteration limit (measured: 1,951 iterations;
-//!   with a normal per contact, the window of step 13 stopped at the limit).
+//!   more: every one gives them the same normal, the same with the matrix in 8 or 16 parts;
+//!   with it, `granular-poly` converges to η < 1e-6 on one-step windows at its default
+//!   iteration limit (measured: 1,983 iterations; with a normal per contact, the window of step
+//!   13 stopped at the limit).
 //! * Bad tables are errors naming the field, before anything is meshed.
 
 use lopin_core::interfaces::interface::Law;
