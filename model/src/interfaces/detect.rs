@@ -12,7 +12,7 @@ use crate::interfaces::interface::{
     BoundaryDof, BoundaryLoad, Contact, DofLaw, Interface, Law, Side,
 };
 use crate::interfaces::shared_normals::SharedNormals;
-use crate::mesh::{dot, norm, sub, Face, Vec3};
+use crate::mesh::{dot, norm, sub, unit, Face, Vec3};
 use crate::substructure::{SideRef, Substructure};
 
 /// How two bodies are joined where their substructures meet.
@@ -46,6 +46,13 @@ struct FaceMatch {
     distance: f64,
     /// The face group of the pair ([`detect_interfaces_grouped`]; 0: none).
     group: usize,
+}
+
+impl FaceMatch {
+    /// The lumped area each node of the face takes from it (METHOD §1).
+    fn node_area(&self) -> f64 {
+        self.face.area / self.face.nodes.len() as f64
+    }
 }
 
 /// Detects all two-sided interfaces between the substructures. `rule(body_a, body_b)` tells how
@@ -113,7 +120,7 @@ pub fn detect_interfaces_grouped(
             continue;
         }
         for m in matches {
-            let a = m.face.area / m.face.nodes.len() as f64;
+            let a = m.node_area();
             for &(n1, n2) in &m.pairs {
                 let (first, second) = ((s, n1, &*subs[t].body), (t, n2, &*subs[s].body));
                 shared.add(piece, first, second, a, m.face.normal);
@@ -527,7 +534,7 @@ fn build_two_sided(
 ) -> Vec<(Interface, usize)> {
     let mut nodes: BTreeMap<usize, PairedNode> = BTreeMap::new();
     for m in matches {
-        let a = m.face.area / m.face.nodes.len() as f64;
+        let a = m.node_area();
         for &(n1, n2) in &m.pairs {
             let e = nodes.entry(n1).or_insert(PairedNode {
                 other: n2,
@@ -583,11 +590,9 @@ fn two_sided(
                 .iter()
                 .map(|&(n1, m)| {
                     let pair = ((s, n1, &*subs[t].body), (t, m.other, &*subs[s].body));
-                    shared.normal(pair.0, pair.1).unwrap_or_else(|| {
-                        let v = m.normal;
-                        let l = norm(v);
-                        [v[0] / l, v[1] / l, v[2] / l]
-                    })
+                    shared
+                        .normal(pair.0, pair.1)
+                        .unwrap_or_else(|| unit(m.normal))
                 })
                 .collect(),
         }),

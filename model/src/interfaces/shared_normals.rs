@@ -16,7 +16,7 @@
 
 use std::collections::HashMap;
 
-use crate::mesh::{norm, Vec3};
+use crate::mesh::{norm, unit, Vec3};
 
 /// A node of one side of a contact: (substructure, node, the body across).
 pub type SideNode<'a> = (usize, usize, &'a str);
@@ -68,19 +68,13 @@ impl<'a> SharedNormals<'a> {
                 }
             }
         }
-        let l = norm(sum);
-        (any && l > 0.0).then(|| [sum[0] / l, sum[1] / l, sum[2] / l])
+        (any && norm(sum) > 0.0).then(|| unit(sum))
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn unit(v: Vec3) -> Vec3 {
-        let l = norm(v);
-        [v[0] / l, v[1] / l, v[2] / l]
-    }
 
     #[test]
     fn a_node_on_two_pieces_gets_the_sum_of_all_its_faces() {

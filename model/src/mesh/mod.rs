@@ -307,6 +307,12 @@ pub fn norm(a: Vec3) -> f64 {
     dot(a, a).sqrt()
 }
 
+/// `a` divided by its norm.
+pub fn unit(a: Vec3) -> Vec3 {
+    let l = norm(a);
+    [a[0] / l, a[1] / l, a[2] / l]
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
