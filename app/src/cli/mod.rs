@@ -4,6 +4,7 @@ mod accuracy;
 mod accuracy_plot;
 mod bench;
 mod bench_accuracy;
+mod bench_accuracy_study;
 mod bench_background;
 mod bench_batch;
 mod checkpoint;

@@ -11,7 +11,7 @@
 use crate::counters::Instant;
 use crate::error::Result;
 use crate::solver::batch::{step_together, Lane};
-use crate::solver::{Control, SolveRun, Solver};
+use crate::solver::{Control, Solution, SolveRun, Solver};
 use crate::state::InterfaceState;
 use crate::study::runner::{
     seeded_chain, set_configuration, start_of, Outcome, Resumed, RunOptions, Solved,
@@ -43,7 +43,7 @@ pub fn run(
     chains: &Chains,
     options: RunOptions,
     resumed: Resumed<'_>,
-    finished: &(dyn Fn(Outcome, &InterfaceState) -> Result<()> + Sync),
+    finished: &(dyn Fn(Outcome, &Solution) -> Result<()> + Sync),
 ) -> Result<Vec<usize>> {
     let points = scaled(&design.points);
     let done = resumed.done;
@@ -198,7 +198,7 @@ fn conclude(
     current: Current,
     chain: usize,
     options: RunOptions,
-    finished: &(dyn Fn(Outcome, &InterfaceState) -> Result<()> + Sync),
+    finished: &(dyn Fn(Outcome, &Solution) -> Result<()> + Sync),
 ) -> Result<(usize, InterfaceState)> {
     let solution = solver.conclude(current.run)?;
     let solved = Solved {
@@ -210,6 +210,6 @@ fn conclude(
         skipped_solves: solver.counters().skipped_solves(),
     };
     let outcome = Outcome::of(solver, &solved, chain, options.compare_cold)?;
-    finished(outcome, &solved.solution.state)?;
+    finished(outcome, &solved.solution)?;
     Ok((solved.index, solved.solution.state))
 }

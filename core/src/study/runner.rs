@@ -127,7 +127,8 @@ impl Resumed<'static> {
 
 /// Runs `chains` of `design`: `make_solver` builds one solver per chain; `resumed` says which
 /// configurations are finished already and gives their states; `finished` receives every
-/// outcome as it is solved, with its converged state. Returns the store's bytes per chain (the
+/// outcome as it is solved, with its solution (the converged state a warm start
+/// restarts from, and ŝ, which post-processing replays). Returns the store's bytes per chain (the
 /// memory of the kept states).
 pub fn run(
     make_solver: &(dyn Fn() -> Result<Solver> + Sync),
@@ -135,7 +136,7 @@ pub fn run(
     chains: &Chains,
     options: RunOptions,
     resumed: Resumed<'_>,
-    finished: &(dyn Fn(Outcome, &InterfaceState) -> Result<()> + Sync),
+    finished: &(dyn Fn(Outcome, &Solution) -> Result<()> + Sync),
 ) -> Result<Vec<usize>> {
     if options.batch > 1 {
         return super::batched::run(make_solver, design, chains, options, resumed, finished);
@@ -255,7 +256,7 @@ fn run_chain(
     chain: &[usize],
     options: RunOptions,
     resumed: Resumed<'_>,
-    finished: &(dyn Fn(Outcome, &InterfaceState) -> Result<()> + Sync),
+    finished: &(dyn Fn(Outcome, &Solution) -> Result<()> + Sync),
     stop: &AtomicBool,
 ) -> Result<usize> {
     let done = resumed.done;
@@ -278,7 +279,7 @@ fn run_chain(
         &mut |_, _| Control::Continue,
         &mut |solver, solved| {
             let outcome = Outcome::of(solver, solved, c, options.compare_cold)?;
-            finished(outcome, &solved.solution.state)
+            finished(outcome, &solved.solution)
         },
         &|failure| failure.error,
     )?;

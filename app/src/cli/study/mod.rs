@@ -31,12 +31,11 @@ use std::sync::Mutex;
 use anyhow::Context;
 use clap::Args;
 use lopin_core::counters::Instant;
-use lopin_core::state::InterfaceState;
 use lopin_core::study::runner::{self, Outcome, Resumed, RunOptions};
 use lopin_core::study::Predictor;
 use lopin_core::study::{Chains, Design, Path, Sampling, Spread, Target};
 use lopin_core::window_choice::Task;
-use lopin_core::Solver;
+use lopin_core::{Solution, Solver};
 use serde::Serialize;
 
 use super::setup::{build, SceneArgs};
@@ -424,7 +423,8 @@ pub fn study(args: &StudyArgs) -> anyhow::Result<ExitCode> {
         .then(|| saved_states(&dir, &plan))
         .transpose()?;
     let write_error: Mutex<Option<anyhow::Error>> = Mutex::new(None);
-    let finished = |mut o: Outcome, state: &InterfaceState| -> lopin_core::Result<()> {
+    let finished = |mut o: Outcome, solution: &Solution| -> lopin_core::Result<()> {
+        let state = &solution.state;
         o.chain = mine[o.chain];
         // the state first: a row is the configuration's commit point
         let saved = states
