@@ -49,7 +49,8 @@ pub struct BenchArgs {
     /// Instead of the iteration table: the time to a velocity error of 1e-3 and 1e-6 of each
     /// case (two-blocks, two-blocks-ramp, two-blocks --refine 2, granular-small, granular-poly)
     /// under the default settings, on two-step windows, with double-precision factors, on the
-    /// whole interval and on the whole interval at ρ∞ = 0.5.
+    /// whole interval and on the whole interval at ρ∞ = 0.5; and of the friction sweep f =
+    /// 0:0.5:0.1, every value cold, warm one at a time and in four lanes.
     #[arg(long, conflicts_with_all = ["batch", "background"])]
     accuracy: bool,
     /// With --accuracy: only the cases of these scenes.

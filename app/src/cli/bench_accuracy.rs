@@ -14,7 +14,8 @@
 //! measurement against it). Rows on windows
 //! of one or two steps are cold solves, one per tolerance; whole-interval rows form one chain,
 //! each tolerance continuing from the previous one's state, so a row's time is that of one
-//! solve stopped there. Printed as one table, written as JSON with `--json`.
+//! solve stopped there. Each case ends with the rows of its friction sweep
+//! ([`super::bench_accuracy_study`]). Printed as one table, written as JSON with `--json`.
 
 use lopin_core::counters::Instant;
 use lopin_core::scene::settings::FactorPrecision;
