@@ -81,9 +81,9 @@ function control(st, name) {
 
 // Clicks a control where the page says it is now, until `predicate` holds (at most 5 clicks):
 // the page draws on between reading a position and the click landing (a solve's report, the
-// background study), so a slow frame may swallow a click or a moved layout misplace it. `at(box)` gives the point
-// to click in the control's box; `prepare`, if given, runs before each click (to restore a
-// state a stray click undid).
+// background study), so a slow frame may swallow a click or a moved layout misplace it.
+// `at(box)` gives the point to click in the control's box; `prepare`, if given, runs before
+// each click (to restore a state a stray click undid).
 async function clickUntil(page, name, at, predicate, what, prepare) {
   for (let attempt = 0; attempt < 5; attempt++) {
     if (prepare) await prepare();

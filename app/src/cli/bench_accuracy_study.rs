@@ -20,7 +20,7 @@ use super::bench_accuracy::{
     converged_solution, cpu_seconds, first_reaching, velocity_error, AccuracyRow, Point, Reference,
     TARGETS, TOLS,
 };
-use super::setup::{build, SceneArgs};
+use super::setup::problem_for;
 
 /// The friction values of the sweep.
 const SWEEP: &str = "0:0.5:0.1";
@@ -97,17 +97,11 @@ struct StudyCase {
 impl StudyCase {
     fn new(scene: &str, refine: usize) -> anyhow::Result<Self> {
         let (wall0, cpu0) = (Instant::now(), cpu_seconds());
-        let built = build(&SceneArgs::refined(
-            scene,
-            refine,
-            Default::default(),
-            Task::Study,
-        ))?;
+        let (problem, settings) = problem_for(scene, refine, Task::Study)?;
         let build = (
             wall0.elapsed().as_secs_f64(),
             cpu_seconds().zip(cpu0).map(|(a, b)| a - b),
         );
-        let (problem, settings) = (built.problem, built.settings);
         let target = Target::parse("f", &problem)?;
         let design = Design::grid(vec![(target.clone(), Spread::parse(SWEEP)?)])?;
         let mut references = Vec::with_capacity(design.points.len());

@@ -19,7 +19,7 @@ use lopin_explorer::study;
 use lopin_explorer::worker::Worker;
 
 use super::report::column_table;
-use super::setup::{build, SceneArgs};
+use super::setup::problem_for;
 
 /// One row of the table.
 #[derive(Debug, Clone, serde::Serialize)]
@@ -61,13 +61,7 @@ pub fn bench_background(
     ]);
     let mut rows: Vec<BackgroundRow> = Vec::new();
     for &refine in refines {
-        let built = build(&SceneArgs::refined(
-            scene,
-            refine,
-            Default::default(),
-            Task::Interactive,
-        ))?;
-        let (problem, settings) = (built.problem, built.settings);
+        let (problem, settings) = problem_for(scene, refine, Task::Interactive)?;
         let mut one = None;
         for &l in lanes {
             let (values, iterations, wall_s) = timed(&problem, settings, l)?;

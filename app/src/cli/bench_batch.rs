@@ -16,7 +16,7 @@ use lopin_core::window_choice::Task;
 use lopin_core::{Problem, Settings, Solver};
 
 use super::report::column_table;
-use super::setup::{build, SceneArgs};
+use super::setup::problem_for;
 
 /// One row of the table.
 #[derive(Debug, Clone, serde::Serialize)]
@@ -77,13 +77,7 @@ pub fn bench_batches(
     ]);
     let mut rows = Vec::new();
     for &refine in refines {
-        let built = build(&SceneArgs::refined(
-            scene,
-            refine,
-            Default::default(),
-            Task::Study,
-        ))?;
-        let (problem, settings) = (built.problem, built.settings);
+        let (problem, settings) = problem_for(scene, refine, Task::Study)?;
         for (name, f, gap) in STUDIES
             .iter()
             .filter(|(n, _, _)| studies.iter().any(|s| s == n))

@@ -205,6 +205,18 @@ pub fn build(args: &SceneArgs) -> anyhow::Result<Built> {
     build_admitted(admitted, start)
 }
 
+/// The problem and settings of built-in or file scene `scene` at `refine`, with the default
+/// solver options for `task` (the benchmarks' way of building a case).
+pub fn problem_for(scene: &str, refine: usize, task: Task) -> anyhow::Result<(Problem, Settings)> {
+    let built = build(&SceneArgs::refined(
+        scene,
+        refine,
+        SolverSpec::default(),
+        task,
+    ))?;
+    Ok((built.problem, built.settings))
+}
+
 /// [`build`] from a scene already admitted (`estimate` counts it first), timing the build from
 /// `start`.
 pub fn build_admitted(admitted: scene::Admitted, start: Instant) -> anyhow::Result<Built> {

@@ -11,7 +11,7 @@ use crate::interfaces::box_sweep::BoxSweep;
 use crate::interfaces::interface::{
     BoundaryDof, BoundaryLoad, Contact, DofLaw, Interface, Law, Side,
 };
-use crate::interfaces::shared_normals::SharedNormals;
+use crate::interfaces::shared_normals::{SharedNormals, SideNode};
 use crate::mesh::{dot, norm, sub, unit, Face, Vec3};
 use crate::substructure::{SideRef, Substructure};
 
@@ -122,7 +122,7 @@ pub fn detect_interfaces_grouped(
         for m in matches {
             let a = m.node_area();
             for &(n1, n2) in &m.pairs {
-                let (first, second) = ((s, n1, &*subs[t].body), (t, n2, &*subs[s].body));
+                let (first, second) = side_nodes(subs, (s, t), (n1, n2));
                 shared.add(piece, first, second, a, m.face.normal);
             }
         }
@@ -566,6 +566,15 @@ fn build_two_sided(
         .collect()
 }
 
+/// The two nodes of a pair between substructures s and t, each named with the body across.
+fn side_nodes(
+    subs: &[Substructure],
+    (s, t): (usize, usize),
+    (n1, n2): (usize, usize),
+) -> (SideNode<'_>, SideNode<'_>) {
+    ((s, n1, &subs[t].body), (t, n2, &subs[s].body))
+}
+
 /// The interface between s and t on the side-1 nodes `members`, each with its data; a node on
 /// several pieces of its contact takes the normal of all their faces (`shared`).
 fn two_sided(
@@ -589,9 +598,9 @@ fn two_sided(
             normal: members
                 .iter()
                 .map(|&(n1, m)| {
-                    let pair = ((s, n1, &*subs[t].body), (t, m.other, &*subs[s].body));
+                    let (first, second) = side_nodes(subs, (s, t), (n1, m.other));
                     shared
-                        .normal(pair.0, pair.1)
+                        .normal(first, second)
                         .unwrap_or_else(|| unit(m.normal))
                 })
                 .collect(),
